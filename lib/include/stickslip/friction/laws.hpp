@@ -1,0 +1,122 @@
+// Friction laws as compile-time policies: the oscillator's step is instantiated for exactly one
+// law, so a scene pays only for the friction it names.
+#pragma once
+
+#include "stickslip/core/params.hpp"
+#include "stickslip/core/scalar.hpp"
+
+namespace stickslip {
+
+// How a law enters the step.
+enum class LawKind : unsigned char {
+  none,      // linear: no friction at all
+  held,      // a function of v_r alone (signum, smoothed forms); no stick state
+  sticking,  // stick-slip logic: stuck while |F_L| <= F_fs, events located inside the step
+};
+
+template <typename T>
+struct FrictionCoefficients {
+  T kinetic_n;                 // F_fk
+  T static_n;                  // F_fs
+  T stribeck_excess_n;         // F_fs - F_fk
+  T inv_stribeck_velocity_sq;  // 1/v_S^2, s^2/m^2
+  T smoothing_c;               // c, s/m
+  T smoothing_scale_n;         // F_fk (2/pi F_fk for the atan form)
+};
+
+// Every law offers the same two functions so that the oscillator can be instantiated uniformly:
+//   force(v, c):                F_f as a function of v_r while moving;
+//   slip_force(v, direction, c): F_f while slipping in `direction` (+1/-1), for sticking laws.
+
+struct NoFriction {
+  static constexpr FrictionModel model = FrictionModel::linear;
+  static constexpr LawKind kind = LawKind::none;
+  static constexpr bool velocity_dependent = false;
+  template <typename T>
+  static T force(T /*v*/, const FrictionCoefficients<T>& /*c*/) noexcept {
+    return T(0);
+  }
+  template <typename T>
+  static T slip_force(T /*v*/, T /*direction*/, const FrictionCoefficients<T>& /*c*/) noexcept {
+    return T(0);
+  }
+};
+
+// F_f = F_fk sgn(v_r), sgn(0) = 0.
+struct SignumFriction {
+  static constexpr FrictionModel model = FrictionModel::signum;
+  static constexpr LawKind kind = LawKind::held;
+  static constexpr bool velocity_dependent = true;
+  template <typename T>
+  static T force(T v, const FrictionCoefficients<T>& c) noexcept {
+    return c.kinetic_n * signum(v);
+  }
+  template <typename T>
+  static T slip_force(T v, T /*direction*/, const FrictionCoefficients<T>& c) noexcept {
+    return force(v, c);
+  }
+};
+
+// F_f = F_fk s(c v_r) for the four smoothed forms of the signum.
+template <SmoothingLaw Law>
+struct SmoothFriction {
+  static constexpr FrictionModel model = FrictionModel::smooth;
+  static constexpr SmoothingLaw smoothing = Law;
+  static constexpr LawKind kind = LawKind::held;
+  static constexpr bool velocity_dependent = true;
+  template <typename T>
+  static T force(T v, const FrictionCoefficients<T>& c) noexcept {
+    using S = ScalarTraits<T>;
+    const T cv = c.smoothing_c * v;
+    if constexpr (Law == SmoothingLaw::atan) {
+      return c.smoothing_scale_n * S::atan(cv);  // scale = 2/pi F_fk, set in configure
+    } else if constexpr (Law == SmoothingLaw::tanh) {
+      return c.smoothing_scale_n * S::tanh(cv);
+    } else if constexpr (Law == SmoothingLaw::erf) {
+      return c.smoothing_scale_n * S::erf(cv);
+    } else {
+      return c.smoothing_scale_n * cv / (T(1) + S::abs(cv));  // the law's own division
+    }
+  }
+  template <typename T>
+  static T slip_force(T v, T /*direction*/, const FrictionCoefficients<T>& c) noexcept {
+    return force(v, c);
+  }
+};
+
+// Coulomb stick-slip: kinetic F_fk while slipping in direction `direction` (+1 or -1).
+struct CoulombStickSlip {
+  static constexpr FrictionModel model = FrictionModel::stick_slip;
+  static constexpr LawKind kind = LawKind::sticking;
+  static constexpr bool velocity_dependent = false;
+  template <typename T>
+  static T slip_force(T /*v*/, T direction, const FrictionCoefficients<T>& c) noexcept {
+    return c.kinetic_n * direction;
+  }
+  template <typename T>
+  static T force(T v, const FrictionCoefficients<T>& c) noexcept {
+    return slip_force(v, signum(v), c);
+  }
+};
+
+// Stribeck (Gaussian) law while slipping, with the same stick logic.
+struct StribeckStickSlip {
+  static constexpr FrictionModel model = FrictionModel::stribeck;
+  static constexpr LawKind kind = LawKind::sticking;
+  static constexpr bool velocity_dependent = true;
+  template <typename T>
+  static T slip_force(T v, T direction, const FrictionCoefficients<T>& c) noexcept {
+    using S = ScalarTraits<T>;
+    // exp(-80) is negligible against F_fk; capping the exponent avoids underflow to subnormals.
+    T exponent = (v * v) * c.inv_stribeck_velocity_sq;
+    if (exponent > T(80)) exponent = T(80);
+    const T magnitude = c.kinetic_n + c.stribeck_excess_n * S::exp(-exponent);
+    return magnitude * direction;
+  }
+  template <typename T>
+  static T force(T v, const FrictionCoefficients<T>& c) noexcept {
+    return slip_force(v, signum(v), c);
+  }
+};
+
+}  // namespace stickslip

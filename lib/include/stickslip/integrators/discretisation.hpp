@@ -1,0 +1,39 @@
+// configure(): validation and every precomputed coefficient, in double, once per scene.
+// All divisions, square roots and matrix exponentials of the library happen here.
+#pragma once
+
+#include "stickslip/core/params.hpp"
+#include "stickslip/core/status.hpp"
+#include "stickslip/integrators/step_map.hpp"
+
+namespace stickslip {
+
+// Everything the step needs, in double; Oscillator<T>::configure converts it to T.
+struct DiscreteModel {
+  OscillatorParams params;
+  StepMap<double> maps[kMapLevels];  // maps[l] advances dt / 2^l with the chosen integrator
+  double block_s[kMapLevels];        // dt / 2^l
+  double inv_dt;                     // 1/dt, for the input slope inside a step
+  double inv_mass;                   // 1/m
+  double stiffness_over_mass;        // k/m
+  double damping_over_mass;          // b/m
+  double stribeck_excess_n;          // F_fs - F_fk
+  double inv_stribeck_velocity_sq;   // 1/v_S^2
+  double smoothing_scale_n;          // F_fk, or F_fk*2/pi for the atan form
+  double natural_frequency_rad_s;    // sqrt(k/m)
+  double spectral_radius;            // of the one-step map linearised at v_r = 0
+};
+
+// Validates `params` (finite, physical ranges, F_fs >= F_fk, the integrator's stability limit,
+// the event search's step limit) and fills `out`. The message names the parameter and the limit.
+ConfigResult discretise(const OscillatorParams& params, DiscreteModel& out) noexcept;
+
+// Affine one-step map of `integrator` for the linear system x' = v, v' = -k/m x - c/m v + g(t)
+// over `step_s` with first-order-hold g. Exposed for tests and tools.
+StepMap<double> linear_step_map(Integrator integrator, double stiffness_over_mass,
+                                double damping_over_mass, double step_s) noexcept;
+
+// Largest eigenvalue modulus of the 2x2 block [[xx, xv], [vx, vv]].
+double spectral_radius(const StepMap<double>& map) noexcept;
+
+}  // namespace stickslip

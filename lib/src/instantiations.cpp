@@ -1,0 +1,28 @@
+// Compiles every oscillator the library offers, for float and double, with the core's own flags
+// (-fno-exceptions -fno-rtti -Werror), so a header that stops building for one of them fails here.
+#include "stickslip/friction/laws.hpp"
+#include "stickslip/metrics/running_statistics.hpp"
+#include "stickslip/models/oscillator.hpp"
+
+namespace stickslip {
+
+template class Oscillator<double, NoFriction>;
+template class Oscillator<double, SignumFriction>;
+template class Oscillator<double, SmoothFriction<SmoothingLaw::atan>>;
+template class Oscillator<double, SmoothFriction<SmoothingLaw::tanh>>;
+template class Oscillator<double, SmoothFriction<SmoothingLaw::erf>>;
+template class Oscillator<double, SmoothFriction<SmoothingLaw::rational>>;
+template class Oscillator<double, CoulombStickSlip>;
+template class Oscillator<double, StribeckStickSlip>;
+template class Oscillator<float, NoFriction>;
+template class Oscillator<float, SignumFriction>;
+template class Oscillator<float, SmoothFriction<SmoothingLaw::atan>>;
+template class Oscillator<float, SmoothFriction<SmoothingLaw::tanh>>;
+template class Oscillator<float, SmoothFriction<SmoothingLaw::erf>>;
+template class Oscillator<float, SmoothFriction<SmoothingLaw::rational>>;
+template class Oscillator<float, CoulombStickSlip>;
+template class Oscillator<float, StribeckStickSlip>;
+template class RunningStatistics<double>;
+template class RunningStatistics<float>;
+
+}  // namespace stickslip

@@ -258,6 +258,10 @@ class Oscillator {
         x = x + theta * (x_end - x);
         v = T(0);
         pos.frac = pos.frac + theta * (T(1) - pos.frac);
+        if (!(pos.frac < T(1))) {
+          ++pos.tick;
+          pos.frac = T(0);
+        }
         return true;
       }
       x = x_end;
@@ -343,8 +347,13 @@ class Oscillator {
         }
         const T limit_now = limit_force(in.at(phi_now), x_);
         const T d = signum(limit_end);
-        T ratio = (d * friction_.static_n - limit_now) / (limit_end - limit_now);
-        ratio = ratio < T(0) ? T(0) : (ratio > T(1) ? T(1) : ratio);
+        // |F_L| crosses F_fs between now and the end; the denominator is non-zero because
+        // |limit_now| < F_fs < |limit_end| (at or above F_fs already: break away now).
+        T ratio = T(0);
+        if (S::abs(limit_now) < friction_.static_n) {
+          ratio = (d * friction_.static_n - limit_now) / (limit_end - limit_now);
+          ratio = ratio < T(0) ? T(0) : (ratio > T(1) ? T(1) : ratio);
+        }
         const T phi_break = phi_now + ratio * (T(1) - phi_now);
         stuck_fraction += phi_break - phi_now;
         const T ticks = phi_break * T(kTicksPerStep);

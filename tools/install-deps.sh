@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs the Debian packages stickslip needs, only those missing (apt-get when root, sudo when
+# available); prints what it does and fails clearly when it cannot install.
+set -euo pipefail
+
+packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev)
+
+missing=()
+for package in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$package")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "install-deps: installing ${missing[*]}" >&2
+if [ "$(id -u)" -eq 0 ]; then
+  apt_get=(apt-get)
+elif command -v sudo >/dev/null 2>&1; then
+  apt_get=(sudo apt-get)
+else
+  echo "install-deps: missing Debian packages (${missing[*]}) and not root; install them with apt-get" >&2
+  exit 1
+fi
+export DEBIAN_FRONTEND=noninteractive
+"${apt_get[@]}" update -qq
+"${apt_get[@]}" install -y -qq --no-install-recommends "${missing[@]}" >/dev/null

@@ -41,8 +41,8 @@ class RunningStatistics {
   void reset() noexcept {
     total_u_sq_.reset();
     total_x_sq_.reset();
-    total_stuck_s_.reset();
-    block_u_sq_ = block_x_sq_ = block_stuck_s_ = T(0);
+    total_stuck_.reset();
+    block_u_sq_ = block_x_sq_ = block_stuck_ = T(0);
     in_block_ = 0;
     samples_ = 0;
     steps_ = 0;
@@ -54,9 +54,9 @@ class RunningStatistics {
     ++samples_;
     if (++in_block_ == kBlockSamples) flush();
   }
-  // One step of length dt with the time it spent stuck.
-  void add_step(T stuck_time_s) noexcept {
-    block_stuck_s_ += stuck_time_s;
+  // One step, with the fraction of it spent stuck (StepOutput::stuck_fraction, in [0, 1]).
+  void add_step(T stuck_fraction) noexcept {
+    block_stuck_ += stuck_fraction;
     ++steps_;
   }
 
@@ -70,19 +70,19 @@ class RunningStatistics {
     const double u = rms_u();
     return u > 0.0 ? rms_x() / u : 0.0;
   }
-  double stuck_time_s() const noexcept { return total(total_stuck_s_, block_stuck_s_); }
-  // p = time stuck / total time; `dt_s` is the step of the run.
-  double stick_probability(double dt_s) const noexcept {
-    const double time = static_cast<double>(steps_) * dt_s;
-    return time > 0.0 ? stuck_time_s() / time : 0.0;
+  // Time stuck, for a run with step `dt_s`.
+  double stuck_time_s(double dt_s) const noexcept { return total(total_stuck_, block_stuck_) * dt_s; }
+  // p = time stuck / total time.
+  double stick_probability() const noexcept {
+    return steps_ > 0 ? total(total_stuck_, block_stuck_) / static_cast<double>(steps_) : 0.0;
   }
 
  private:
   void flush() noexcept {
     total_u_sq_.add(block_u_sq_);
     total_x_sq_.add(block_x_sq_);
-    total_stuck_s_.add(block_stuck_s_);
-    block_u_sq_ = block_x_sq_ = block_stuck_s_ = T(0);
+    total_stuck_.add(block_stuck_);
+    block_u_sq_ = block_x_sq_ = block_stuck_ = T(0);
     in_block_ = 0;
   }
   static double total(const CompensatedSum<T>& sum, T block) noexcept {
@@ -95,8 +95,8 @@ class RunningStatistics {
     return std::sqrt(total(sum, block) / static_cast<double>(samples_));
   }
 
-  CompensatedSum<T> total_u_sq_, total_x_sq_, total_stuck_s_;
-  T block_u_sq_{}, block_x_sq_{}, block_stuck_s_{};
+  CompensatedSum<T> total_u_sq_, total_x_sq_, total_stuck_;
+  T block_u_sq_{}, block_x_sq_{}, block_stuck_{};
   unsigned in_block_ = 0;
   std::uint64_t samples_ = 0;
   std::uint64_t steps_ = 0;

@@ -34,6 +34,7 @@ struct StepOutput {
   T a_x_m_per_s2;    // absolute seat acceleration; equals a_u exactly while stuck
   T friction_n;      // friction force F_f on the seat (the holding force while stuck)
   T stuck_time_s;    // time spent stuck inside this step
+  T stuck_fraction;  // the same as a fraction of the step, in [0, 1] (exact sums in float too)
   bool stuck;        // stuck at the end of the step
   std::uint8_t events;  // stick, break-away and reversal events inside this step
 };
@@ -139,7 +140,7 @@ class Oscillator {
     }
     a_prev_ = a_u_next;
     guard_state();
-    return output(a_u_next, stuck_fraction * dt_s_, events);
+    return output(a_u_next, stuck_fraction, events);
   }
 
   T x_r() const noexcept { return x_; }
@@ -243,16 +244,21 @@ class Oscillator {
   // Integrates from `pos` to the end of the step with the given friction. With direction d != 0,
   // stops at the first instant where v_r*d turns negative: returns true with v_r = 0 and `pos` at
   // that instant. d = 0 integrates to the end without looking for events.
+  // `starting`: the slip phase begins here (break-away or reversal), where a_r*d >= 0 by the stick
+  // decision; its first tick cannot hold a genuine crossing, so v_r*d is clamped at 0 there
+  // instead of letting rounding (a_r ~ 0 when |F_L| ~ F_fs) fake one.
   template <typename Force>
-  bool slip(Position& pos, T& x, T& v, T d, const Input& in, const Force& force) const noexcept {
-    if (pos.frac > T(0)) {
-      // Finish the tick an event left us inside, with a second-order Taylor step.
+  bool slip(Position& pos, T& x, T& v, T d, const Input& in, const Force& force,
+            bool starting = false) const noexcept {
+    if (pos.tick < kTicksPerStep && (pos.frac > T(0) || starting)) {
+      // Finish the tick we are inside, with a second-order Taylor step.
       const T h = (T(1) - pos.frac) * tick_s_;
       const T f = force(v);
       const T a = relative_acceleration(x, v, f, in.at(pos.phi()));
       const T jerk = -(k_over_m_ * v + b_over_m_ * a) - (in.a1 - in.a0) * inv_dt_;
       const T x_end = x + h * (v + kHalf * a * h);
-      const T v_end = v + h * (a + kHalf * jerk * h);
+      T v_end = v + h * (a + kHalf * jerk * h);
+      if (starting && v_end * d < T(0)) v_end = T(0);
       if (v_end * d < T(0)) {
         const T theta = v / (v - v_end);
         x = x + theta * (x_end - x);
@@ -335,6 +341,7 @@ class Oscillator {
   int step_sticking(const Input& in, T& stuck_fraction) noexcept {
     Position pos{0u, T(0)};
     int events = 0;
+    bool starting = false;  // a slip phase begins at pos (after break-away or reversal)
     for (;;) {
       if (direction_ == T(0)) {
         // Stuck: F_L is linear in time inside the step; check the end, then solve for break-away.
@@ -364,24 +371,27 @@ class Oscillator {
         direction_ = d;
         v_ = T(0);
         ++events;
+        starting = true;
         continue;
       }
       const bool detect = events < kMaxEventsPerStep;
       if (!detect) ++event_budget_exhausted_;
       const T d = detect ? direction_ : T(0);
-      if (!slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_})) return events;
+      if (!slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, starting)) return events;
       ++events;
       // v_r reached 0: stick if the limit force is within static friction, else reverse.
       const T limit = limit_force(in.at(pos.phi()), x_);
       direction_ = S::abs(limit) <= friction_.static_n ? T(0) : signum(limit);
+      starting = direction_ != T(0);
     }
   }
 
-  StepOutput<T> output(T a_u, T stuck_time_s, int events) const noexcept {
+  StepOutput<T> output(T a_u, T stuck_fraction, int events) const noexcept {
     StepOutput<T> out{};
     out.x_r_m = x_;
     out.v_r_m_per_s = v_;
-    out.stuck_time_s = stuck_time_s;
+    out.stuck_time_s = stuck_fraction * dt_s_;
+    out.stuck_fraction = stuck_fraction;
     out.events = static_cast<std::uint8_t>(events);
     out.stuck = false;
     T force = T(0);

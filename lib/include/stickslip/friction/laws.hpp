@@ -19,7 +19,7 @@ struct FrictionCoefficients {
   T kinetic_n;                 // F_fk
   T static_n;                  // F_fs
   T stribeck_excess_n;         // F_fs - F_fk
-  T inv_stribeck_velocity_sq;  // 1/v_S^2, s^2/m^2
+  T inv_stribeck_velocity;     // 1/v_S, s/m
   T smoothing_c;               // c, s/m
   T smoothing_scale_n;         // F_fk (2/pi F_fk for the atan form)
 };
@@ -107,9 +107,13 @@ struct StribeckStickSlip {
   template <typename T>
   static T slip_force(T v, T direction, const FrictionCoefficients<T>& c) noexcept {
     using S = ScalarTraits<T>;
-    // exp(-80) is negligible against F_fk; capping the exponent avoids underflow to subnormals.
-    T exponent = (v * v) * c.inv_stribeck_velocity_sq;
-    if (exponent > T(80)) exponent = T(80);
+    // Square the scaled velocity v/v_S, not v itself (v^2 underflows in float near v = 0);
+    // below 1e-9 the exponential is 1 to any precision, and exp(-80) is negligible against F_fk:
+    // both clamps keep every intermediate a normal number.
+    T scaled = ScalarTraits<T>::abs(v) * c.inv_stribeck_velocity;
+    if (scaled < T(1e-9)) scaled = T(0);
+    if (scaled > T(9)) scaled = T(9);
+    const T exponent = scaled * scaled;
     const T magnitude = c.kinetic_n + c.stribeck_excess_n * S::exp(-exponent);
     return magnitude * direction;
   }

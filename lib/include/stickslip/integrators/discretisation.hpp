@@ -18,7 +18,7 @@ struct DiscreteModel {
   double stiffness_over_mass;        // k/m
   double damping_over_mass;          // b/m
   double stribeck_excess_n;          // F_fs - F_fk
-  double inv_stribeck_velocity_sq;   // 1/v_S^2
+  double inv_stribeck_velocity;      // 1/v_S
   double smoothing_scale_n;          // F_fk, or F_fk*2/pi for the atan form
   double natural_frequency_rad_s;    // sqrt(k/m)
   double spectral_radius;            // of the one-step map linearised at v_r = 0

@@ -27,9 +27,12 @@ namespace {
 void free_decay(double damping, double x0, double v0, double t, double& x, double& v) {
   const double omega0_sq = test::kStiffnessNPerM / test::kMassKg;
   const double sigma = damping / (2.0 * test::kMassKg);
+  // sqrt of |discriminant| in both branches: clang may evaluate both speculatively, and a sqrt
+  // of a negative number would raise FE_INVALID (the IEEE754 plugin fails the test).
+  const double discriminant = std::fabs(omega0_sq - sigma * sigma);
   if (sigma * sigma < omega0_sq) {
     // x = e^{-sigma t}(x0 cos wd t + B sin wd t), B = (v0 + sigma x0)/wd.
-    const double wd = std::sqrt(omega0_sq - sigma * sigma);
+    const double wd = std::sqrt(discriminant);
     const double decay = std::exp(-sigma * t);
     const double c = std::cos(wd * t), s = std::sin(wd * t);
     const double b_coef = (v0 + sigma * x0) / wd;
@@ -37,7 +40,7 @@ void free_decay(double damping, double x0, double v0, double t, double& x, doubl
     v = decay * ((-sigma * x0 + wd * b_coef) * c + (-sigma * b_coef - wd * x0) * s);
   } else {
     // x = c1 e^{r1 t} + c2 e^{r2 t}, r1,2 = -sigma +- sqrt(sigma^2 - omega0^2).
-    const double root = std::sqrt(sigma * sigma - omega0_sq);
+    const double root = std::sqrt(discriminant);
     const double r1 = -sigma + root, r2 = -sigma - root;
     const double c1 = (v0 - r2 * x0) / (r1 - r2), c2 = x0 - c1;
     const double e1 = std::exp(r1 * t), e2 = std::exp(r2 * t);

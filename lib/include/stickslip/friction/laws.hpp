@@ -24,9 +24,10 @@ struct FrictionCoefficients {
   T smoothing_scale_n;         // F_fk (2/pi F_fk for the atan form)
 };
 
-// Every law offers the same two functions so that the oscillator can be instantiated uniformly:
-//   force(v, c):                F_f as a function of v_r while moving;
-//   slip_force(v, direction, c): F_f while slipping in `direction` (+1/-1), for sticking laws.
+// Every law offers the same functions so that the oscillator can be instantiated uniformly:
+//   force(v, c):                 F_f as a function of v_r while moving;
+//   slip_force(v, direction, c): F_f while slipping in `direction` (+1/-1), for sticking laws;
+//   force_at_rest(F_L, c):       F_f at an instant where v_r = 0 under the load F_L (held laws).
 
 struct NoFriction {
   static constexpr FrictionModel model = FrictionModel::linear;
@@ -38,6 +39,9 @@ struct NoFriction {
   }
   template <typename T>
   static T slip_force(T /*v*/, T /*direction*/, const FrictionCoefficients<T>& /*c*/) noexcept {
+    return T(0);
+  }  template <typename T>
+  static T force_at_rest(T /*limit_force_n*/, const FrictionCoefficients<T>& /*c*/) noexcept {
     return T(0);
   }
 };
@@ -54,6 +58,14 @@ struct SignumFriction {
   template <typename T>
   static T slip_force(T v, T /*direction*/, const FrictionCoefficients<T>& c) noexcept {
     return force(v, c);
+  }
+  // At v_r = 0 sgn is set-valued, F_f in [-F_fk, F_fk] (Filippov): the friction takes the load
+  // F_L when it can hold it, else F_fk against the motion the load starts.
+  template <typename T>
+  static T force_at_rest(T limit_force_n, const FrictionCoefficients<T>& c) noexcept {
+    if (limit_force_n > c.kinetic_n) return c.kinetic_n;
+    if (limit_force_n < -c.kinetic_n) return -c.kinetic_n;
+    return limit_force_n;
   }
 };
 
@@ -82,6 +94,11 @@ struct SmoothFriction {
   static T slip_force(T v, T /*direction*/, const FrictionCoefficients<T>& c) noexcept {
     return force(v, c);
   }
+  // A continuous law is single-valued at rest: F_f(0) = 0.
+  template <typename T>
+  static T force_at_rest(T /*limit_force_n*/, const FrictionCoefficients<T>& /*c*/) noexcept {
+    return T(0);
+  }
 };
 
 // Coulomb stick-slip: kinetic F_fk while slipping in direction `direction` (+1 or -1).
@@ -96,6 +113,10 @@ struct CoulombStickSlip {
   template <typename T>
   static T force(T v, const FrictionCoefficients<T>& c) noexcept {
     return slip_force(v, signum(v), c);
+  }
+  template <typename T>
+  static T force_at_rest(T /*limit_force_n*/, const FrictionCoefficients<T>& /*c*/) noexcept {
+    return T(0);  // sticking laws decide at rest with their own stick logic
   }
 };
 
@@ -120,6 +141,10 @@ struct StribeckStickSlip {
   template <typename T>
   static T force(T v, const FrictionCoefficients<T>& c) noexcept {
     return slip_force(v, signum(v), c);
+  }
+  template <typename T>
+  static T force_at_rest(T /*limit_force_n*/, const FrictionCoefficients<T>& /*c*/) noexcept {
+    return T(0);  // sticking laws decide at rest with their own stick logic
   }
 };
 

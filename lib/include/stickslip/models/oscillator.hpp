@@ -107,6 +107,7 @@ class Oscillator {
     state_resets_ = 0;
     if constexpr (Law::kind == LawKind::held) {
       held_force_ = Law::force(v_, friction_);
+      reported_force_ = held_force_;
     } else if constexpr (Law::kind == LawKind::sticking) {
       const T limit = limit_force(a_u0, x_);
       if (v_ == T(0)) {
@@ -316,24 +317,36 @@ class Oscillator {
 
   // Held laws (signum, smoothed): friction from the state at the start of the step. With the exact
   // integrator a sign change of v_r inside the step is located and the friction re-sampled there
-  // (sgn(0) = 0), which keeps the scheme passive; explicit integrators follow Simulink ode1.
+  // with the law's value at rest (signum: the Filippov value clamp(F_L, +-F_fk), i.e. hold the load
+  // or reverse against it; smoothed: 0). Friction then never does positive work: the scheme is
+  // passive. Explicit integrators follow Simulink ode1 (no event location).
   int step_held(const Input& in) noexcept {
     int events = 0;
-    const T force = held_force_;
+    T force = held_force_;
     if (stage_friction_) {
       advance_rk4(x_, v_, 0, in.a0, in.a1,
                   [this](T v) noexcept { return Law::force(v, friction_); });
     } else if (held_events_ && force != T(0)) {
       Position pos{0u, T(0)};
-      if (slip(pos, x_, v_, signum(v_), in, ConstantForce{force})) {
-        events = 1;
-        slip(pos, x_, v_, T(0), in, ConstantForce{T(0)});
+      T d = signum(v_);
+      bool starting = false;
+      while (slip(pos, x_, v_, d, in, ConstantForce{force}, starting)) {
+        ++events;
+        force = Law::force_at_rest(limit_force(in.at(pos.phi()), x_), friction_);
+        // Slipping again only if the friction saturates against the load; otherwise held at rest
+        // for the rest of the step (no further events to look for).
+        const bool saturated = S::abs(force) == friction_.kinetic_n && force != T(0);
+        d = saturated && events < kMaxEventsPerStep ? signum(force) : T(0);
+        starting = d != T(0);
       }
     } else {
       const T scaled_force = inv_mass_ * force;
       advance_affine(x_, v_, 0, -(in.a0 + scaled_force), -(in.a1 + scaled_force));
     }
     held_force_ = Law::force(v_, friction_);
+    // Reported at the sample: with events, the friction acting at the end of the step (the
+    // trajectory's own); otherwise the law at the sample, as ode1 reports it.
+    reported_force_ = held_events_ ? force : held_force_;
     return events;
   }
 
@@ -396,7 +409,7 @@ class Oscillator {
     out.stuck = false;
     T force = T(0);
     if constexpr (Law::kind == LawKind::held) {
-      force = held_force_;
+      force = reported_force_;
     } else if constexpr (Law::kind == LawKind::sticking) {
       if (direction_ == T(0)) {
         out.stuck = true;
@@ -418,7 +431,7 @@ class Oscillator {
     x_ = T(0);
     v_ = T(0);
     ++state_resets_;
-    if constexpr (Law::kind == LawKind::held) held_force_ = T(0);
+    if constexpr (Law::kind == LawKind::held) held_force_ = reported_force_ = T(0);
     if constexpr (Law::kind == LawKind::sticking) direction_ = T(0);
   }
 
@@ -432,7 +445,8 @@ class Oscillator {
 
   // State.
   T x_{}, v_{}, a_prev_{};
-  T held_force_{};  // held laws: friction at the start of the next step
+  T held_force_{};      // held laws: friction at the start of the next step
+  T reported_force_{};  // held laws: friction reported with the sample
   T direction_{};   // sticking laws: 0 stuck, +1/-1 slipping
   std::uint64_t event_budget_exhausted_ = 0;
   std::uint64_t rejected_inputs_ = 0;

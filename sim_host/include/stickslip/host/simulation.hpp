@@ -1,0 +1,65 @@
+// Runs the core's oscillator over a whole recorded signal and measures it: the loop every host
+// command uses (simulate, demo) so that they agree bit for bit with an in-process run.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "stickslip/core/params.hpp"
+#include "stickslip/host/error.hpp"
+
+namespace stickslip::host {
+
+enum class ScalarType : std::uint8_t { float64, float32 };
+const char* scalar_name(ScalarType scalar) noexcept;  // "double", "float"
+bool parse_scalar(const std::string& name, ScalarType& out) noexcept;
+
+struct SimulationSetup {
+  OscillatorParams params;  // dt_s from the signal
+  double x0_m = 0.0;
+  double v0_m_per_s = 0.0;
+  int repetitions = 0;  // timed runs of the loop; 0: 5, or 3 above kManySteps steps
+};
+
+inline constexpr std::uint64_t kManySteps = 2000000;
+
+// One row per input sample; row 0 is the initial state (oscillator.current()).
+template <typename T>
+struct SimulationTrace {
+  std::vector<T> x_r_m, v_r_m_per_s, a_x_m_per_s2, friction_n;
+  std::vector<std::uint8_t> stuck;
+};
+
+struct SimulationSummary {
+  std::uint64_t samples = 0;  // rows, the initial one included
+  std::uint64_t steps = 0;    // samples - 1
+  double dt_s = 0.0;
+  double rms_u = 0.0;              // m/s^2
+  double rms_x = 0.0;              // m/s^2
+  double transmissibility = 0.0;   // T_ax = rms_x / rms_u
+  double stick_probability = 0.0;  // p
+  double den_hartog_k = 0.0;       // K from F_fk, m and rms_u (for any model)
+  double ns_per_sample = 0.0;      // median wall time of the loop per step
+  int repetitions = 0;
+  std::uint64_t events = 0;                  // in-step stick/break-away/reversal events
+  std::uint64_t rejected_inputs = 0;         // non-finite input samples replaced
+  std::uint64_t event_budget_exhausted = 0;  // steps that hit the event budget
+  std::uint64_t state_resets = 0;            // non-finite state restarts
+};
+
+// configure() refused the parameters; what() is the core's message, which names the parameter
+// (as in OscillatorParams, e.g. "mass_kg") and its limit.
+class ConfigurationError : public HostError {
+ public:
+  explicit ConfigurationError(const std::string& core_message) : HostError(core_message) {}
+};
+
+// Configures the oscillator for setup.params (throws ConfigurationError if configure() refuses),
+// then runs reset(x0, v0, a_u[0]) and step(a_u[n]) for n >= 1 `repetitions` times, each time
+// filling `trace` (resized here, outside the timed loop) and the statistics. Needs >= 2 samples.
+template <typename T>
+SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vector<T>& a_u,
+                                  SimulationTrace<T>& trace);
+
+}  // namespace stickslip::host

@@ -1,0 +1,215 @@
+#include "stickslip/host/cli.hpp"
+
+#include <exception>
+#include <new>
+#include <ostream>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "stickslip/host/commands.hpp"
+#include "stickslip/host/error.hpp"
+#include "stickslip/host/signal_generator.hpp"
+
+namespace stickslip::host {
+namespace {
+
+// Everything the three subcommands can be given; filled by CLI11, checked by the commands.
+struct Options {
+  // generate
+  std::string kind;
+  GeneratorSpec generator;
+  std::string generate_output;
+  // simulate
+  SimulateRequest simulate;
+  std::string model;
+  std::string integrator;
+  std::string smoothing = "tanh";
+  std::string scalar = "double";
+  // demo
+  DemoRequest demo;
+};
+
+void add_generate(CLI::App& app, Options& o) {
+  CLI::App* generate = app.add_subcommand(
+      "generate",
+      "Write a synthetic cab-floor acceleration a_u(t) as CSV (t,a_u): the same file for "
+      "the same options on every machine");
+  generate->add_option("--kind", o.kind, "wideband | lorry | harmonic")->required();
+  generate->add_option("--rms", o.generator.rms_m_per_s2, "RMS of a_u over the file, m/s^2")
+      ->required();
+  generate->add_option("--duration", o.generator.duration_s, "s; samples n = 0..round(duration/dt)")
+      ->required();
+  generate->add_option("--dt", o.generator.dt_s, "sample interval, s")->required();
+  generate->add_option("--seed", o.generator.seed, "random seed (wideband, lorry)")
+      ->capture_default_str();
+  generate->add_option("--frequency", o.generator.frequency_hz,
+                       "Hz, harmonic only (ignored by the other kinds)");
+  generate->add_option("--output", o.generate_output, "CSV file to write")->required();
+}
+
+void add_simulate(CLI::App& app, Options& o) {
+  CLI::App* simulate = app.add_subcommand(
+      "simulate",
+      "Run the seat model over a recording; write t,a_u,x_r,v_r,a_x,f_f,stuck and print "
+      "the statistics as a JSON line");
+  OscillatorParams& p = o.simulate.setup.params;
+  simulate
+      ->add_option("--input", o.simulate.input_path,
+                   "CSV with columns t (uniform, s) and a_u (m/s^2)")
+      ->required();
+  simulate->add_option("--output", o.simulate.output_path, "CSV file to write")->required();
+  simulate->add_option("--stats", o.simulate.stats_path, "also write the statistics JSON here");
+  simulate->add_option("--model", o.model, "linear | signum | smooth | stick-slip | stribeck")
+      ->required();
+  simulate->add_option("--mass", p.mass_kg, "seat mass m, kg")->capture_default_str();
+  simulate->add_option("--stiffness", p.stiffness_n_per_m, "spring k, N/m")->capture_default_str();
+  simulate->add_option("--damping", p.damping_ns_per_m, "damper b, N s/m")->capture_default_str();
+  simulate->add_option("--ffk", p.kinetic_friction_n, "kinetic friction F_fk, N")
+      ->capture_default_str();
+  simulate->add_option("--ffs", p.static_friction_n, "static friction F_fs, N (default: F_fk)");
+  simulate->add_option("--stribeck-velocity", p.stribeck_velocity_m_per_s, "v_S, m/s (stribeck)")
+      ->capture_default_str();
+  simulate->add_option("--smoothing", o.smoothing, "atan | tanh | erf | rational (smooth)")
+      ->capture_default_str();
+  simulate->add_option("--smoothing-c", p.smoothing_constant_s_per_m, "c in s(c v_r), s/m (smooth)")
+      ->capture_default_str();
+  simulate->add_option("--integrator", o.integrator,
+                       "euler | symplectic | rk4 | exact (default: exact for linear, signum, "
+                       "stick-slip; rk4 for smooth, stribeck)");
+  simulate->add_option("--scalar", o.scalar, "double | float")->capture_default_str();
+  simulate->add_option("--x0", o.simulate.setup.x0_m, "initial x_r, m")->capture_default_str();
+  simulate->add_option("--v0", o.simulate.setup.v0_m_per_s, "initial v_r, m/s")
+      ->capture_default_str();
+  simulate
+      ->add_option("--repetitions", o.simulate.setup.repetitions,
+                   "timed runs for ns_per_sample (default 5; 3 above 2e6 steps)")
+      ->check(CLI::PositiveNumber);
+}
+
+void add_demo(CLI::App& app, Options& o) {
+  CLI::App* demo = app.add_subcommand(
+      "demo",
+      "Lorry recording -> signum and stick-slip on the reference seat -> which model the "
+      "scene needs");
+  demo->add_option("--duration", o.demo.duration_s, "s")->capture_default_str();
+  demo->add_option("--dt", o.demo.dt_s, "s")->capture_default_str();
+  demo->add_option("--ffk", o.demo.friction_n, "F_fk = F_fs, N")->capture_default_str();
+  demo->add_option(
+      "--out-dir", o.demo.out_dir,
+      "where the files go (default: a fresh directory under the system temp directory)");
+}
+
+int run_generate(const Options& o, std::ostream& out) {
+  GeneratorSpec spec = o.generator;
+  if (!parse_signal_kind(o.kind, spec.kind)) {
+    throw UsageError("--kind: unknown kind '" + o.kind +
+                     "' (expected wideband, lorry or harmonic)");
+  }
+  const std::uint64_t rows = write_generated_csv(spec, o.generate_output);
+  out << fmt::format("wrote {}: {} {} samples, dt = {} s, rms {} m/s^2{}\n", o.generate_output,
+                     rows, signal_kind_name(spec.kind), spec.dt_s, spec.rms_m_per_s2,
+                     spec.kind == SignalKind::harmonic ? fmt::format(", {} Hz", spec.frequency_hz)
+                                                       : fmt::format(", seed {}", spec.seed));
+  return kExitOk;
+}
+
+int run_simulate(CLI::App& simulate, Options& o, std::ostream& out) {
+  SimulateRequest request = o.simulate;
+  OscillatorParams& p = request.setup.params;
+  if (!parse_model(o.model.c_str(), p.model)) {
+    throw UsageError("--model: unknown model '" + o.model +
+                     "' (expected linear, signum, smooth, stick-slip or stribeck)");
+  }
+  if (!parse_smoothing(o.smoothing.c_str(), p.smoothing)) {
+    throw UsageError("--smoothing: unknown form '" + o.smoothing +
+                     "' (expected atan, tanh, erf or rational)");
+  }
+  if (o.integrator.empty()) {
+    p.integrator = default_integrator(p.model);
+  } else if (!parse_integrator(o.integrator.c_str(), p.integrator)) {
+    throw UsageError("--integrator: unknown integrator '" + o.integrator +
+                     "' (expected euler, symplectic, rk4 or exact)");
+  }
+  if (!parse_scalar(o.scalar, request.scalar)) {
+    throw UsageError("--scalar: unknown scalar '" + o.scalar + "' (expected double or float)");
+  }
+  if (simulate.get_option("--ffs")->count() == 0) p.static_friction_n = p.kinetic_friction_n;
+  const SimulateResult result = simulate_file(request);
+  out << result.stats_json << "\n";  // the last line of stdout, for tools
+  return kExitOk;
+}
+
+// One line, whatever the message holds.
+std::string one_line(std::string text) {
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+}  // namespace
+
+int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {
+  try {
+    Options options;
+    CLI::App app("stickslip: seat suspension with dry friction, simulated sample by sample",
+                 "stickslip");
+    app.require_subcommand(1);
+    app.footer(
+        "Exit status: 0 success, 1 bad input data or failed file operation, 2 command-line error.");
+    add_generate(app, options);
+    add_simulate(app, options);
+    add_demo(app, options);
+    // CLI11 would only say "A subcommand is required" for a misspelt one.
+    const std::string first = argc >= 2 ? argv[1] : "";
+    if (!first.empty() && first[0] != '-' && first != "generate" && first != "simulate" &&
+        first != "demo") {
+      throw UsageError(std::string("unknown subcommand '") + argv[1] +
+                       "' (expected generate, simulate or demo; see stickslip --help)");
+    }
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& error) {
+      if (error.get_exit_code() == 0) {  // --help
+        out << app.help();
+        return kExitOk;
+      }
+      err << "stickslip: " << one_line(error.what()) << "\n";
+      return kExitUsage;
+    }
+    if (app.got_subcommand("generate")) return run_generate(options, out);
+    if (app.got_subcommand("simulate"))
+      return run_simulate(*app.get_subcommand("simulate"), options, out);
+    run_demo(options.demo, out);
+    return kExitOk;
+  } catch (const UsageError& error) {
+    err << "stickslip: " << one_line(error.what()) << "\n";
+    return kExitUsage;
+  } catch (const HostError& error) {
+    err << "stickslip: " << one_line(error.what()) << "\n";
+    return kExitFailure;
+  } catch (const std::bad_alloc&) {
+    err << "stickslip: out of memory\n";
+    return kExitFailure;
+  } catch (const std::exception& error) {
+    err << "stickslip: " << one_line(error.what()) << "\n";
+    return kExitFailure;
+  } catch (...) {
+    err << "stickslip: unexpected error\n";
+    return kExitFailure;
+  }
+}
+
+int run_cli(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err) {
+  std::vector<std::string> storage;
+  storage.reserve(arguments.size() + 1);
+  storage.emplace_back("stickslip");
+  storage.insert(storage.end(), arguments.begin(), arguments.end());
+  std::vector<char*> argv;
+  for (std::string& argument : storage) argv.push_back(argument.data());
+  argv.push_back(nullptr);
+  return run_cli(static_cast<int>(storage.size()), argv.data(), out, err);
+}
+
+}  // namespace stickslip::host

@@ -1,0 +1,114 @@
+#include "stickslip/host/simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "stickslip/metrics/den_hartog.hpp"
+#include "stickslip/metrics/running_statistics.hpp"
+#include "stickslip/models/dispatch.hpp"
+
+namespace stickslip::host {
+
+const char* scalar_name(ScalarType scalar) noexcept {
+  return scalar == ScalarType::float32 ? "float" : "double";
+}
+
+bool parse_scalar(const std::string& name, ScalarType& out) noexcept {
+  if (name == "double") {
+    out = ScalarType::float64;
+    return true;
+  }
+  if (name == "float") {
+    out = ScalarType::float32;
+    return true;
+  }
+  return false;
+}
+
+template <typename T>
+SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vector<T>& a_u,
+                                  SimulationTrace<T>& trace) {
+  const std::size_t count = a_u.size();
+  if (count < 2) throw HostError("simulate needs at least 2 samples");
+  trace.x_r_m.resize(count);
+  trace.v_r_m_per_s.resize(count);
+  trace.a_x_m_per_s2.resize(count);
+  trace.friction_n.resize(count);
+  trace.stuck.resize(count);
+  const int repetitions =
+      setup.repetitions > 0 ? setup.repetitions : (count - 1 > kManySteps ? 3 : 5);
+  const T x0 = static_cast<T>(setup.x0_m);
+  const T v0 = static_cast<T>(setup.v0_m_per_s);
+
+  // The model is chosen once, here, outside the sample loop.
+  return with_oscillator<T>(setup.params, [&](auto& oscillator) {
+    const ConfigResult configured = oscillator.configure(setup.params);
+    if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+
+    RunningStatistics<T> statistics;
+    std::uint64_t events = 0;
+    const T* input = a_u.data();
+    T* x_r = trace.x_r_m.data();
+    T* v_r = trace.v_r_m_per_s.data();
+    T* a_x = trace.a_x_m_per_s2.data();
+    T* friction = trace.friction_n.data();
+    std::uint8_t* stuck = trace.stuck.data();
+    const auto store = [&](std::size_t n, const StepOutput<T>& out) {
+      x_r[n] = out.x_r_m;
+      v_r[n] = out.v_r_m_per_s;
+      a_x[n] = out.a_x_m_per_s2;
+      friction[n] = out.friction_n;
+      stuck[n] = out.stuck ? 1 : 0;
+    };
+
+    std::vector<double> seconds;
+    seconds.reserve(static_cast<std::size_t>(repetitions));
+    for (int repetition = 0; repetition < repetitions; ++repetition) {
+      const auto start = std::chrono::steady_clock::now();
+      oscillator.reset(x0, v0, input[0]);
+      statistics.reset();
+      events = 0;
+      const StepOutput<T> initial = oscillator.current();
+      store(0, initial);
+      statistics.add_sample(input[0], initial.a_x_m_per_s2);
+      for (std::size_t n = 1; n < count; ++n) {
+        const StepOutput<T> out = oscillator.step(input[n]);
+        store(n, out);
+        statistics.add_sample(input[n], out.a_x_m_per_s2);
+        statistics.add_step(out.stuck_fraction);
+        events += out.events;
+      }
+      const auto stop = std::chrono::steady_clock::now();
+      seconds.push_back(std::chrono::duration<double>(stop - start).count());
+    }
+    std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
+
+    SimulationSummary summary;
+    summary.samples = statistics.samples();
+    summary.steps = statistics.steps();
+    summary.dt_s = setup.params.dt_s;
+    summary.rms_u = statistics.rms_u();
+    summary.rms_x = statistics.rms_x();
+    summary.transmissibility = statistics.transmissibility();
+    summary.stick_probability = statistics.stick_probability();
+    // K describes the scene (its friction against its excitation), whichever model runs it.
+    summary.den_hartog_k =
+        den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
+    summary.ns_per_sample =
+        seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
+    summary.repetitions = repetitions;
+    summary.events = events;
+    summary.rejected_inputs = oscillator.rejected_inputs();
+    summary.event_budget_exhausted = oscillator.event_budget_exhausted();
+    summary.state_resets = oscillator.state_resets();
+    return summary;
+  });
+}
+
+template SimulationSummary simulate_signal<double>(const SimulationSetup&,
+                                                   const std::vector<double>&,
+                                                   SimulationTrace<double>&);
+template SimulationSummary simulate_signal<float>(const SimulationSetup&, const std::vector<float>&,
+                                                  SimulationTrace<float>&);
+
+}  // namespace stickslip::host

@@ -130,7 +130,7 @@ StepMap<double> map_for(Integrator integrator, Real k_m, Real b_m, Real h) {
       out.vv = static_cast<double>(1 - h * b_m);
       out.gv0 = static_cast<double>(h);
       return out;
-    case Integrator::symplectic:  // v first, then x with the new v
+    case Integrator::symplectic:  // v first, then x with the updated v
       out.xx = static_cast<double>(1 - h * h * k_m);
       out.xv = static_cast<double>(h * (1 - h * b_m));
       out.vx = static_cast<double>(-h * k_m);

@@ -23,7 +23,7 @@ enum class SmoothingLaw : std::uint8_t {
 
 enum class Integrator : std::uint8_t {
   euler,       // explicit Euler, Simulink ode1 semantics: everything from the start of the step
-  symplectic,  // semi-implicit Euler: velocity first, position with the new velocity
+  symplectic,  // semi-implicit Euler: velocity first, position with the updated velocity
   rk4,         // classic 4th-order Runge-Kutta with first-order-hold input
   exact,       // exact discretisation of the linear part (matrix exponential, first-order hold)
 };

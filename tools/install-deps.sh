@@ -1,9 +1,17 @@
 #!/usr/bin/env bash
 # Installs the Debian packages stickslip needs, only those missing (apt-get when root, sudo when
 # available); prints what it does and fails clearly when it cannot install.
+#   tools/install-deps.sh            build and test dependencies
+#   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind)
 set -euo pipefail
 
 packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev)
+for group in "$@"; do
+  case "$group" in
+    --report) packages+=(gnuplot-nox valgrind) ;;
+    *) echo "install-deps: unknown group '$group' (known: --report)" >&2; exit 2 ;;
+  esac
+done
 
 missing=()
 for package in "${packages[@]}"; do

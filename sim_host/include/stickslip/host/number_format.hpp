@@ -1,7 +1,7 @@
 // Full-precision number output for CSV files: exactly what printf("%.17g") prints, so every double
-// reads back to the same bits. fmt's "{:.17g}" costs ~240 ns per value, which made writing a
-// 1e7-row, 7-column file take ~15 s; this exact fast path (~25 ns) falls back to fmt only where
-// it cannot prove the rounding (ties, huge or tiny magnitudes, non-finite values).
+// reads back to the same bits. std::to_chars (libstdc++'s Ryu-based implementation) is exact and
+// ~3x faster than fmt's "{:.17g}" (measured ~80 vs ~240 ns per value here), which matters for
+// 1e7-row, 7-column files.
 #pragma once
 
 #include <cstddef>

@@ -75,8 +75,9 @@ void add_simulate(CLI::App& app, Options& o) {
   simulate->add_option("--smoothing-c", p.smoothing_constant_s_per_m, "c in s(c v_r), s/m (smooth)")
       ->capture_default_str();
   simulate->add_option("--integrator", o.integrator,
-                       "euler | symplectic | rk4 | exact (default: exact for linear, signum, "
-                       "stick-slip; rk4 for smooth, stribeck)");
+                       "euler | symplectic | rk4 | exact | reference (default: exact for "
+                       "linear, signum, stick-slip; rk4 for smooth, stribeck; reference: the "
+                       "event-driven reference solver, double only)");
   simulate->add_option("--scalar", o.scalar, "double | float")->capture_default_str();
   simulate->add_option("--x0", o.simulate.setup.x0_m, "initial x_r, m")->capture_default_str();
   simulate->add_option("--v0", o.simulate.setup.v0_m_per_s, "initial v_r, m/s")
@@ -127,9 +128,13 @@ int run_simulate(CLI::App& simulate, Options& o, std::ostream& out) {
   }
   if (o.integrator.empty()) {
     p.integrator = default_integrator(p.model);
+  } else if (o.integrator == "reference") {
+    request.setup.reference = true;  // host-only solver; the core's integrator is not used
+    p.integrator = default_integrator(p.model);
   } else if (!parse_integrator(o.integrator.c_str(), p.integrator)) {
+    // (The message predates 'reference'; tests/cli/test_simulate_errors.cpp pins its text.)
     throw UsageError("--integrator: unknown integrator '" + o.integrator +
-                     "' (expected euler, symplectic, rk4 or exact)");
+                     "' (expected euler, symplectic, rk4, exact or reference)");
   }
   if (!parse_scalar(o.scalar, request.scalar)) {
     throw UsageError("--scalar: unknown scalar '" + o.scalar + "' (expected double or float)");

@@ -1,6 +1,7 @@
 #include "stickslip/host/commands.hpp"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <cerrno>
 #include <cfloat>
@@ -115,6 +116,11 @@ std::string make_fresh_directory() {
 SimulateResult simulate_file(const SimulateRequest& request) {
   require_finite("--x0", request.setup.x0_m);
   require_finite("--v0", request.setup.v0_m_per_s);
+  if (request.setup.reference && request.scalar == ScalarType::float32) {
+    throw UsageError(
+        "--scalar float: the reference integrator runs in double only (long double inside); "
+        "use --scalar double");
+  }
   if (!request.stats_path.empty()) {
     std::error_code error;
     if (request.stats_path == request.output_path ||
@@ -150,6 +156,12 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   result.stats_json = format_stats_json(
       result.summary,
       StatsContext{&setup, request.scalar, request.input_path, request.output_path});
+  if (setup.reference) {
+    // The core's Integrator has no 'reference': name the solver that ran.
+    auto json = nlohmann::ordered_json::parse(result.stats_json);
+    json["integrator"] = "reference";
+    result.stats_json = json.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  }
   if (stats) stats->write(result.stats_json + "\n");
 
   output.commit();

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <type_traits>
+#include <utility>
 
+#include "stickslip/host/reference_solver.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
@@ -25,18 +28,77 @@ bool parse_scalar(const std::string& name, ScalarType& out) noexcept {
   return false;
 }
 
+namespace {
+
+int repetitions_for(const SimulationSetup& setup, std::size_t count) {
+  return setup.repetitions > 0 ? setup.repetitions : (count - 1 > kManySteps ? 3 : 5);
+}
+
+// `--integrator reference`: solve_reference() timed like the core's loop (median of the runs),
+// its trace moved into `trace`, the statistics from the trace.
+SimulationSummary simulate_reference(const SimulationSetup& setup, const std::vector<double>& a_u,
+                                     SimulationTrace<double>& trace) {
+  const std::size_t count = a_u.size();
+  const int repetitions = repetitions_for(setup, count);
+  ReferenceTrace result;
+  std::vector<double> seconds;
+  seconds.reserve(static_cast<std::size_t>(repetitions));
+  for (int repetition = 0; repetition < repetitions; ++repetition) {
+    const auto start = std::chrono::steady_clock::now();
+    result = solve_reference(setup.params, a_u, setup.x0_m, setup.v0_m_per_s);
+    const auto stop = std::chrono::steady_clock::now();
+    seconds.push_back(std::chrono::duration<double>(stop - start).count());
+  }
+  std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
+
+  RunningStatistics<double> statistics;
+  statistics.reset();
+  for (std::size_t n = 0; n < count; ++n) statistics.add_sample(a_u[n], result.a_x_m_per_s2[n]);
+  SimulationSummary summary;
+  summary.samples = statistics.samples();
+  summary.steps = count - 1;
+  summary.dt_s = setup.params.dt_s;
+  summary.rms_u = statistics.rms_u();
+  summary.rms_x = statistics.rms_x();
+  summary.transmissibility = statistics.transmissibility();
+  summary.stick_probability =
+      result.stuck_time_s / (static_cast<double>(count - 1) * setup.params.dt_s);
+  summary.den_hartog_k =
+      den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
+  summary.ns_per_sample =
+      seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
+  summary.repetitions = repetitions;
+  summary.events = result.events;
+  trace.x_r_m = std::move(result.x_r_m);
+  trace.v_r_m_per_s = std::move(result.v_r_m_per_s);
+  trace.a_x_m_per_s2 = std::move(result.a_x_m_per_s2);
+  trace.friction_n = std::move(result.friction_n);
+  trace.stuck = std::move(result.stuck);
+  return summary;
+}
+
+}  // namespace
+
 template <typename T>
 SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vector<T>& a_u,
                                   SimulationTrace<T>& trace) {
   const std::size_t count = a_u.size();
   if (count < 2) throw HostError("simulate needs at least 2 samples");
+  if (setup.reference) {
+    if constexpr (std::is_same_v<T, double>) {
+      return simulate_reference(setup, a_u, trace);
+    } else {
+      throw UsageError(
+          "--scalar: the reference integrator runs in double only (long double inside); use "
+          "--scalar double");
+    }
+  }
   trace.x_r_m.resize(count);
   trace.v_r_m_per_s.resize(count);
   trace.a_x_m_per_s2.resize(count);
   trace.friction_n.resize(count);
   trace.stuck.resize(count);
-  const int repetitions =
-      setup.repetitions > 0 ? setup.repetitions : (count - 1 > kManySteps ? 3 : 5);
+  const int repetitions = repetitions_for(setup, count);
   const T x0 = static_cast<T>(setup.x0_m);
   const T v0 = static_cast<T>(setup.v0_m_per_s);
 

@@ -103,7 +103,7 @@ TEST(SimulateErrors, UnknownFlagModelIntegratorScalarOrSmoothing) {
                  2);
   expect_refused(
       {"--input", in, "--model", "signum", "--integrator", "rk45"},
-      "--integrator: unknown integrator 'rk45' (expected euler, symplectic, rk4 or exact)", 2);
+      "--integrator: unknown integrator 'rk45' (expected euler, symplectic, rk4, exact or reference)", 2);
   expect_refused({"--input", in, "--model", "signum", "--scalar", "half"},
                  "--scalar: unknown scalar 'half' (expected double or float)", 2);
   expect_refused({"--input", in, "--model", "smooth", "--smoothing", "sigmoid"},

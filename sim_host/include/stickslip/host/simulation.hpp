@@ -20,6 +20,9 @@ struct SimulationSetup {
   double x0_m = 0.0;
   double v0_m_per_s = 0.0;
   int repetitions = 0;  // timed runs of the loop; 0: 5, or 3 above kManySteps steps
+  // Run the event-driven reference solver (reference_solver.hpp, `--integrator reference`)
+  // instead of the core; params.integrator is then ignored. Double only.
+  bool reference = false;
 };
 
 inline constexpr std::uint64_t kManySteps = 2000000;
@@ -58,6 +61,8 @@ class ConfigurationError : public HostError {
 // Configures the oscillator for setup.params (throws ConfigurationError if configure() refuses),
 // then runs reset(x0, v0, a_u[0]) and step(a_u[n]) for n >= 1 `repetitions` times, each time
 // filling `trace` (resized here, outside the timed loop) and the statistics. Needs >= 2 samples.
+// With setup.reference, times solve_reference() instead (the same statistics; p from its exact
+// stuck time); T = float is then refused with a UsageError.
 template <typename T>
 SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vector<T>& a_u,
                                   SimulationTrace<T>& trace);

@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "stickslip/integrators/taylor_segment.hpp"
+
 namespace stickslip {
 namespace {
 
@@ -267,6 +269,31 @@ double spectral_radius(const StepMap<double>& m) noexcept {
 StepMap<double> linear_step_map(Integrator integrator, double stiffness_over_mass,
                                 double damping_over_mass, double step_s) noexcept {
   return map_for(integrator, wide(stiffness_over_mass), wide(damping_over_mass), wide(step_s));
+}
+
+EventSearchPlan event_search_plan(const OscillatorParams& p, double epsilon) noexcept {
+  const EventSearchPlan interpolate{kEventLevels, 0};
+  if (p.integrator != Integrator::exact || !(p.mass_kg > 0.0)) return interpolate;
+  // In the coordinates (omega0 x, v) the system matrix is [[0, omega0], [-omega0, -b/m]]: its
+  // infinity norm omega0 + b/m bounds the growth of the Taylor coefficients, |c_n| <= rho^n/n!
+  // times the state, rho = rate * tick.
+  const double rate = std::sqrt(p.stiffness_n_per_m / p.mass_kg) + p.damping_ns_per_m / p.mass_kg;
+  constexpr double kMaxRho = 1.0 / 16.0;
+  int level = 0;
+  double rho = rate * p.dt_s;
+  while (rho > kMaxRho && level <= kEventLevels) {
+    rho *= 0.5;
+    ++level;
+  }
+  if (level > kEventLevels || !std::isfinite(rho)) return interpolate;
+  // Smallest order whose first omitted term rho^(K+1)/(K+1)! is below epsilon/16.
+  double term = rho * rho / 2.0;  // K = 1
+  int order = 1;
+  while (order < kMaxTaylorOrder && (order < 2 || term > epsilon / 16.0)) {
+    ++order;
+    term *= rho / static_cast<double>(order + 1);
+  }
+  return {level, order};
 }
 
 ConfigResult discretise(const OscillatorParams& p, DiscreteModel& out) noexcept {

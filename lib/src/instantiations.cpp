@@ -1,7 +1,9 @@
 // Compiles every oscillator the library offers, for float and double, with the core's own flags
 // (-fno-exceptions -fno-rtti -Werror), so a header that stops building for one of them fails here.
 #include "stickslip/friction/laws.hpp"
+#include "stickslip/metrics/batch_statistics.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
+#include "stickslip/models/batch.hpp"
 #include "stickslip/models/oscillator.hpp"
 
 namespace stickslip {
@@ -24,5 +26,9 @@ template class Oscillator<float, CoulombStickSlip>;
 template class Oscillator<float, StribeckStickSlip>;
 template class RunningStatistics<double>;
 template class RunningStatistics<float>;
+template class StickSlipBatch<double, 8>;
+template class StickSlipBatch<float, 8>;
+template class BatchStatistics<double, 8>;
+template class BatchStatistics<float, 8>;
 
 }  // namespace stickslip

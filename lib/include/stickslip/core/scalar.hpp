@@ -3,6 +3,18 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
+
+// The step's rare paths (event search) are kept out of line so that its common path stays small
+// enough to be inlined into the caller's sample loop (no call, no StepOutput through memory).
+// The per-sample step itself is always inlined (a call would pass StepOutput through memory).
+#if defined(__GNUC__) || defined(__clang__)
+#define STICKSLIP_OUT_OF_LINE __attribute__((noinline))
+#define STICKSLIP_INLINE_STEP __attribute__((always_inline)) inline
+#else
+#define STICKSLIP_OUT_OF_LINE
+#define STICKSLIP_INLINE_STEP inline
+#endif
 
 namespace stickslip {
 
@@ -14,7 +26,10 @@ struct FloatScalarTraits {
   static constexpr Float from_double(double value) noexcept { return static_cast<Float>(value); }
   static constexpr double to_double(Float value) noexcept { return static_cast<double>(value); }
   static bool is_finite(Float value) noexcept { return std::isfinite(value); }
-  static constexpr Float abs(Float value) noexcept { return value < Float(0) ? -value : value; }
+  // A sign-bit mask, not a compare and branch: |F_L| is tested every stuck step, and the sign
+  // of F_L is data, which a branch predictor cannot learn.
+  static Float abs(Float value) noexcept { return std::fabs(value); }
+  static constexpr Float epsilon() noexcept { return std::numeric_limits<Float>::epsilon(); }
   // Transcendentals used only by the friction laws that need them (smoothed signum, Stribeck).
   static Float tanh(Float value) noexcept { return std::tanh(value); }
   static Float atan(Float value) noexcept { return std::atan(value); }

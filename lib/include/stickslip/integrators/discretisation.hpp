@@ -24,6 +24,19 @@ struct DiscreteModel {
   double spectral_radius;            // of the one-step map linearised at v_r = 0
 };
 
+// How the in-step event search resolves an event. It bisects on the dyadic grid of the step down
+// to blocks of dt / 2^tick_level ("ticks"); inside a tick it either evaluates the exact solution
+// as a Taylor polynomial of degree taylor_order in v_r (exact integrator: the tick is chosen so
+// that rate * tick <= 1/16 and the order so that the truncation is below epsilon/16, with
+// rate = omega0 + b/m bounding the system's matrix), or interpolates linearly inside ticks of
+// dt / 2^kEventLevels (taylor_order = 0: the other integrators, whose trajectory between
+// sub-steps is their own, and scenes too stiff for a Taylor tick of at least dt / 2^kEventLevels).
+struct EventSearchPlan {
+  int tick_level;
+  int taylor_order;
+};
+EventSearchPlan event_search_plan(const OscillatorParams& params, double epsilon) noexcept;
+
 // Validates `params` (finite, physical ranges, F_fs >= F_fk, the integrator's stability limit,
 // the event search's step limit) and fills `out`. The message names the parameter and the limit.
 ConfigResult discretise(const OscillatorParams& params, DiscreteModel& out) noexcept;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "stickslip/core/scalar.hpp"
@@ -30,6 +31,9 @@ class CompensatedSum {
   T sum_{};
   T compensation_{};
 };
+
+template <typename T, std::size_t N>
+class BatchStatistics;
 
 template <typename T>
 class RunningStatistics {
@@ -78,6 +82,10 @@ class RunningStatistics {
   }
 
  private:
+  // A batch keeps the same sums for many lanes and hands out one lane's as a RunningStatistics.
+  template <typename, std::size_t>
+  friend class BatchStatistics;
+
   void flush() noexcept {
     total_u_sq_.add(block_u_sq_);
     total_x_sq_.add(block_x_sq_);

@@ -7,15 +7,20 @@
 //
 // The linear part of every integrator is a precomputed affine map (see step_map.hpp); the step
 // does no division and calls no transcendental function except the friction law's own
-// (atan/tanh/erf/exp) and the in-step event interpolation (rare path).
+// (atan/tanh/erf/exp) and the in-step event location (a few divisions, rare path). Its common
+// path (whole step stuck, or slipping without a sign change) is inline and branch-light; the
+// event search is out of line.
 //
 // Stick-slip: while slipping, a sign change of v_r inside the step is located by bisection on a
-// dyadic grid of the step (maps for dt/2^l are precomputed) and linear interpolation in the last
-// tick; there the limit force F_L = -(m a_u + k x_r) decides stick (|F_L| <= F_fs) or reversal.
+// dyadic grid of the step (maps for dt/2^l are precomputed) down to a "tick", inside which the
+// exact integrator solves the Taylor polynomial of the exact solution and the other integrators
+// interpolate linearly (ticks of dt/2^16); there the limit force F_L = -(m a_u + k x_r) decides
+// stick (|F_L| <= F_fs) or reversal.
 // While stuck, F_L is linear in time inside the step, so the break-away instant is found in closed
 // form. The rest of the step is integrated in the new mode; several events per step are handled.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "stickslip/core/params.hpp"
@@ -24,6 +29,8 @@
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/integrators/discretisation.hpp"
 #include "stickslip/integrators/step_map.hpp"
+#include "stickslip/integrators/taylor_segment.hpp"
+#include "stickslip/models/whole_step.hpp"
 
 namespace stickslip {
 
@@ -38,6 +45,9 @@ struct StepOutput {
   bool stuck;        // stuck at the end of the step
   std::uint8_t events;  // stick, break-away and reversal events inside this step
 };
+
+template <typename T, std::size_t N>
+class StickSlipBatch;
 
 // Safety limit on events inside one step; beyond it the step finishes in its current mode. Keeps
 // the worst-case time of step() bounded; counted in event_budget_exhausted().
@@ -71,7 +81,6 @@ class Oscillator {
       block_s_[level] = S::from_double(model.block_s[level]);
     }
     dt_s_ = S::from_double(params.dt_s);
-    tick_s_ = block_s_[kEventLevels];
     inv_dt_ = S::from_double(model.inv_dt);
     mass_kg_ = S::from_double(params.mass_kg);
     stiffness_ = S::from_double(params.stiffness_n_per_m);
@@ -92,6 +101,21 @@ class Oscillator {
       stage_friction_ = rk4 && Law::velocity_dependent;
       held_events_ = params.integrator == Integrator::exact;
     }
+    // The event search: bisection down to ticks of dt / 2^event_level_, then the Taylor
+    // polynomial of the exact solution (exact integrator) or linear interpolation inside a tick.
+    const EventSearchPlan plan =
+        event_search_plan(params, S::to_double(ScalarTraits<T>::epsilon()));
+    event_level_ = plan.tick_level;
+    ticks_per_step_ = 1u << plan.tick_level;
+    inv_ticks_ = S::from_double(1.0 / static_cast<double>(ticks_per_step_));  // a power of two
+    tick_s_ = block_s_[event_level_];
+    // The first 1/2^kEventLevels of the step after a slip starts (see slip()), in ticks.
+    start_guard_ticks_ = S::from_double(static_cast<double>(ticks_per_step_) /
+                                        static_cast<double>(kTicksPerStep));
+    taylor_ = TaylorCoefficients<T>{};
+    taylor_.order = plan.taylor_order;
+    fill_taylor_coefficients(taylor_, model.block_s[event_level_], model.stiffness_over_mass,
+                             model.damping_over_mass);
     reset(T(0), T(0), T(0));
     return result;
   }
@@ -116,6 +140,7 @@ class Oscillator {
         direction_ = signum(v_);
       }
     }
+    slip_a_x_ = current().a_x_m_per_s2;
   }
 
   // The outputs for the current state (the first row of a simulation, before any step).
@@ -123,7 +148,7 @@ class Oscillator {
 
   // Advances one sample: from the previous input a_u[n-1] to a_u_next = a_u[n].
   // A non-finite input is replaced by the previous one and counted in rejected_inputs().
-  StepOutput<T> step(T a_u_next) noexcept {
+  STICKSLIP_INLINE_STEP StepOutput<T> step(T a_u_next) noexcept {
     if (!S::is_finite(a_u_next)) {
       a_u_next = a_prev_;
       ++rejected_inputs_;
@@ -137,11 +162,39 @@ class Oscillator {
     } else if constexpr (Law::kind == LawKind::held) {
       events = step_held(in);
     } else {
-      events = step_sticking(in, stuck_fraction);
+      // The common paths first, inline: a whole step stuck, or (constant kinetic friction) a
+      // whole step slipping without a sign change of v_r. Anything else runs the event search.
+      if (direction_ == T(0)) {
+        const T limit = stuck_limit_force(mass_kg_, stiffness_, x_, in.a1);
+        if (!stuck_step_breaks_away(limit, friction_.static_n)) {
+          a_prev_ = a_u_next;
+          return stuck_output(a_u_next, limit);
+        }
+        events = step_sticking(in, stuck_fraction, nullptr);
+      } else if constexpr (!Law::velocity_dependent) {
+        const T force = Law::slip_force(v_, direction_, friction_);
+        // inv_mass_ * force, as seat_acceleration() forms it (bit for bit the same value).
+        const WholeSlip<T> moved = whole_step_slip(maps_[0], k_over_m_, b_over_m_,
+                                                   inv_mass_ * force, x_, v_, slip_a_x_, in.a0,
+                                                   in.a1);
+        if (!slip_step_has_event(moved, direction_)) {
+          x_ = moved.x;
+          v_ = moved.v;
+          slip_a_x_ = moved.seat_acceleration;
+          a_prev_ = a_u_next;
+          return slip_output(force, moved.seat_acceleration);
+        }
+        // The search starts from this whole step instead of computing it again.
+        events = step_sticking(in, stuck_fraction, &moved);
+      } else {
+        events = step_sticking(in, stuck_fraction, nullptr);
+      }
     }
     a_prev_ = a_u_next;
     guard_state();
-    return output(a_u_next, stuck_fraction, events);
+    const StepOutput<T> out = output(a_u_next, stuck_fraction, events);
+    slip_a_x_ = out.a_x_m_per_s2;  // the seat acceleration the next step starts from, if slipping
+    return out;
   }
 
   T x_r() const noexcept { return x_; }
@@ -158,17 +211,43 @@ class Oscillator {
   // Times the non-finite guard restarted the state from rest (0 for any accepted configuration).
   std::uint64_t state_resets() const noexcept { return state_resets_; }
 
+  // The mutable state between two steps (the counters apart), for a caller that keeps many
+  // oscillators' states elsewhere (StickSlipBatch) or checkpoints a run. restore() takes a state
+  // that state() returned for an oscillator with the same parameters.
+  struct State {
+    T x_r_m, v_r_m_per_s;
+    T a_u_previous;     // the input sample the next step starts from
+    T direction;        // sticking laws: 0 stuck, +1/-1 slipping
+    T held_force_n;     // held laws: friction at the start of the next step
+    T reported_force_n;  // held laws: friction reported with the sample
+  };
+  State state() const noexcept {
+    return {x_, v_, a_prev_, direction_, held_force_, reported_force_};
+  }
+  void restore(const State& s) noexcept {
+    x_ = s.x_r_m;
+    v_ = s.v_r_m_per_s;
+    a_prev_ = s.a_u_previous;
+    direction_ = s.direction;
+    held_force_ = s.held_force_n;
+    reported_force_ = s.reported_force_n;
+    slip_a_x_ = current().a_x_m_per_s2;
+  }
+
  private:
+  // The batch copies the coefficients of its lanes' common path (models/batch.hpp).
+  template <typename, std::size_t>
+  friend class StickSlipBatch;
+
   // Input over the current step, linear in the fraction of the step phi in [0, 1].
   struct Input {
     T a0, a1;
     T at(T phi) const noexcept { return (T(1) - phi) * a0 + phi * a1; }  // exact at both ends
   };
-  // Position inside the step: whole ticks of dt/2^kEventLevels plus a fraction of the next tick.
+  // Position inside the step: whole ticks of dt/2^event_level_ plus a fraction of the next tick.
   struct Position {
     unsigned tick;
     T frac;
-    T phi() const noexcept { return (T(tick) + frac) * kInvTicks; }
   };
   struct ConstantForce {
     T force_n;
@@ -180,22 +259,19 @@ class Oscillator {
     T operator()(T v) const noexcept { return Law::slip_force(v, direction, *coefficients); }
   };
 
-  static constexpr T kInvTicks = T(1) / T(kTicksPerStep);  // exact: a power of two
   static constexpr T kHalf = T(0.5);
+
+  T phi(const Position& pos) const noexcept { return (T(pos.tick) + pos.frac) * inv_ticks_; }
 
   T limit_force(T a_u, T x) const noexcept { return -(mass_kg_ * a_u + stiffness_ * x); }
 
   // dv_r/dt for a given friction force.
   T relative_acceleration(T x, T v, T force_n, T a_u) const noexcept {
-    return -(k_over_m_ * x + b_over_m_ * v + inv_mass_ * force_n) - a_u;
+    return seat_acceleration(k_over_m_, b_over_m_, inv_mass_, x, v, force_n) - a_u;
   }
 
   void advance_affine(T& x, T& v, int level, T g0, T g1) const noexcept {
-    const StepMap<T>& m = maps_[level];
-    const T x_next = m.xx * x + m.xv * v + m.gx0 * g0 + m.gx1 * g1;
-    const T v_next = m.vx * x + m.vv * v + m.gv0 * g0 + m.gv1 * g1;
-    x = x_next;
-    v = v_next;
+    apply_step_map(maps_[level], x, v, g0, g1);
   }
 
   // Classic RK4 with the friction force evaluated at every stage (velocity-dependent laws).
@@ -217,13 +293,13 @@ class Oscillator {
     v = v + sixth_h * (k1v + T(2) * (k2v + k3v) + k4v);
   }
 
-  // One block of 2^(kEventLevels - level) ticks starting at `tick`.
+  // One block of 2^(event_level_ - level) ticks starting at `tick`.
   template <typename Force>
   void advance_block(T& x, T& v, unsigned tick, int level, const Input& in,
                      const Force& force) const noexcept {
-    const unsigned size = kTicksPerStep >> level;
-    const T a_u0 = in.at(T(tick) * kInvTicks);
-    const T a_u1 = in.at(T(tick + size) * kInvTicks);
+    const unsigned size = ticks_per_step_ >> level;
+    const T a_u0 = in.at(T(tick) * inv_ticks_);
+    const T a_u1 = in.at(T(tick + size) * inv_ticks_);
     if (stage_friction_) {
       advance_rk4(x, v, level, a_u0, a_u1, force);
     } else {
@@ -242,74 +318,156 @@ class Oscillator {
     return bit;
   }
 
+  // The generalised input g = -(a_u + F_f/m) changes by this much per tick (first-order hold).
+  T input_slope_per_tick(const Input& in) const noexcept { return -(in.a1 - in.a0) * inv_ticks_; }
+
+  static void advance_within_tick(Position& pos, T fraction) noexcept {
+    pos.frac = fraction;
+    if (!(pos.frac < T(1))) {
+      ++pos.tick;
+      pos.frac = T(0);
+    }
+  }
+
+  // Exact integrator: from `pos` inside a tick (or at a slip start) to the end of that tick on
+  // the Taylor polynomial of the exact solution, with the friction force_n held. Returns true
+  // with v_r = 0 and `pos` at the first instant where v_r d turns negative (d != 0).
+  bool finish_tick_taylor(Position& pos, T& x, T& v, T d, const Input& in, T force_n,
+                          bool starting) const noexcept {
+    const T scaled_force = inv_mass_ * force_n;
+    for (;;) {
+      const T u_start = pos.frac;
+      const T span = T(1) - u_start;
+      const TaylorSegment<T> segment(taylor_, x, v, -(in.at(phi(pos)) + scaled_force),
+                                     input_slope_per_tick(in), starting ? d : T(0));
+      if (d != T(0)) {
+        T lo = T(0);
+        T at_lo = v * d;
+        if (starting) {
+          // A slip phase begins here with a_r d >= 0: within its first 1/2^kEventLevels of the
+          // step a sign change can only be rounding (a_r ~ 0 when |F_L| ~ F_fs). v_r is clamped
+          // at 0 there instead of letting it fake an event, and the search goes on from there.
+          lo = start_guard_ticks_ < span ? start_guard_ticks_ : span;
+          at_lo = segment.velocity(lo) * d;
+          if (at_lo < T(0)) {
+            x = segment.position(lo);
+            v = T(0);
+            advance_within_tick(pos, u_start + lo);
+            if (pos.frac == T(0)) return false;
+            starting = false;
+            continue;
+          }
+        }
+        T root = T(0);
+        if (segment.first_crossing(d, lo, span, at_lo, root)) {
+          x = segment.position(root);
+          v = T(0);
+          advance_within_tick(pos, u_start + root);
+          return true;
+        }
+      }
+      x = segment.position(span);
+      v = segment.velocity(span);
+      ++pos.tick;
+      pos.frac = T(0);
+      return false;
+    }
+  }
+
   // Integrates from `pos` to the end of the step with the given friction. With direction d != 0,
   // stops at the first instant where v_r*d turns negative: returns true with v_r = 0 and `pos` at
   // that instant. d = 0 integrates to the end without looking for events.
   // `starting`: the slip phase begins here (break-away or reversal), where a_r*d >= 0 by the stick
-  // decision; its first tick cannot hold a genuine crossing, so v_r*d is clamped at 0 there
-  // instead of letting rounding (a_r ~ 0 when |F_L| ~ F_fs) fake one.
+  // decision; its first 1/2^kEventLevels of the step cannot hold a genuine crossing, so v_r*d is
+  // clamped at 0 there instead of letting rounding (a_r ~ 0 when |F_L| ~ F_fs) fake one.
+  // `whole_step`: the common path's whole step from the start of the step, if it was computed.
   template <typename Force>
   bool slip(Position& pos, T& x, T& v, T d, const Input& in, const Force& force,
-            bool starting = false) const noexcept {
-    if (pos.tick < kTicksPerStep && (pos.frac > T(0) || starting)) {
-      // Finish the tick we are inside, with a second-order Taylor step.
-      const T h = (T(1) - pos.frac) * tick_s_;
-      const T f = force(v);
-      const T a = relative_acceleration(x, v, f, in.at(pos.phi()));
-      const T jerk = -(k_over_m_ * v + b_over_m_ * a) - (in.a1 - in.a0) * inv_dt_;
-      const T x_end = x + h * (v + kHalf * a * h);
-      T v_end = v + h * (a + kHalf * jerk * h);
-      if (starting && v_end * d < T(0)) v_end = T(0);
-      if (v_end * d < T(0)) {
-        const T theta = v / (v - v_end);
-        x = x + theta * (x_end - x);
-        v = T(0);
-        pos.frac = pos.frac + theta * (T(1) - pos.frac);
-        if (!(pos.frac < T(1))) {
-          ++pos.tick;
-          pos.frac = T(0);
+            bool starting = false, const WholeSlip<T>* whole_step = nullptr) const noexcept {
+    if (pos.tick < ticks_per_step_ && (pos.frac > T(0) || starting)) {
+      if (taylor_.order > 0) {
+        if (finish_tick_taylor(pos, x, v, d, in, force(v), starting)) return true;
+      } else {
+        // Finish the tick we are inside, with a second-order Taylor step.
+        const T h = (T(1) - pos.frac) * tick_s_;
+        const T f = force(v);
+        const T a = relative_acceleration(x, v, f, in.at(phi(pos)));
+        const T jerk = -(k_over_m_ * v + b_over_m_ * a) - (in.a1 - in.a0) * inv_dt_;
+        const T x_end = x + h * (v + kHalf * a * h);
+        T v_end = v + h * (a + kHalf * jerk * h);
+        if (starting && v_end * d < T(0)) v_end = T(0);
+        if (v_end * d < T(0)) {
+          const T theta = v / (v - v_end);
+          x = x + theta * (x_end - x);
+          v = T(0);
+          advance_within_tick(pos, pos.frac + theta * (T(1) - pos.frac));
+          return true;
         }
-        return true;
+        x = x_end;
+        v = v_end;
+        ++pos.tick;
+        pos.frac = T(0);
       }
-      x = x_end;
-      v = v_end;
-      ++pos.tick;
-      pos.frac = T(0);
     }
-    while (pos.tick < kTicksPerStep) {
+    while (pos.tick < ticks_per_step_) {
       // The largest dyadic block aligned at pos.tick (the whole step from the start).
-      int level = pos.tick == 0u ? 0 : kEventLevels - lowest_set_bit(pos.tick);
-      const T a_start =
-          relative_acceleration(x, v, force(v), in.at(T(pos.tick) * kInvTicks));
+      int level = pos.tick == 0u ? 0 : event_level_ - lowest_set_bit(pos.tick);
+      const T force_start = force(v);
+      const T a_u_start = in.at(T(pos.tick) * inv_ticks_);
+      const T a_start = relative_acceleration(x, v, force_start, a_u_start);
       for (;;) {
-        const unsigned size = kTicksPerStep >> level;
+        const unsigned size = ticks_per_step_ >> level;
         T x_end = x, v_end = v;
-        advance_block(x_end, v_end, pos.tick, level, in, force);
+        const bool known = whole_step != nullptr && pos.tick == 0u && level == 0;
+        if (known) {
+          x_end = whole_step->x;
+          v_end = whole_step->v;
+        } else {
+          advance_block(x_end, v_end, pos.tick, level, in, force);
+        }
         const bool crossed = v_end * d < T(0);
         bool dip = false;  // |v| fell and rose again inside the block: it may have crossed twice
         if (!crossed && a_start * d < T(0)) {
-          const T a_end = relative_acceleration(x_end, v_end, force(v_end),
-                                                in.at(T(pos.tick + size) * kInvTicks));
+          const T a_end = known ? whole_step->a_end
+                                : relative_acceleration(x_end, v_end, force(v_end),
+                                                        in.at(T(pos.tick + size) * inv_ticks_));
           dip = a_end * d > T(0);
         }
-        if (!crossed && (!dip || level == kEventLevels)) {
-          x = x_end;
-          v = v_end;
-          pos.tick += size;
-          break;
-        }
-        if (level == kEventLevels && crossed) {
-          const T theta = v / (v - v_end);  // linear inside one tick
-          x = x + theta * (x_end - x);
-          v = T(0);
-          pos.frac = theta;
-          if (!(theta < T(1))) {
-            ++pos.tick;
-            pos.frac = T(0);
+        if (crossed || dip) {
+          if (level < event_level_) {
+            ++level;  // bisect: try the first half
+            continue;
           }
-          return true;
+          // Inside one tick.
+          if (taylor_.order > 0) {
+            const TaylorSegment<T> segment(taylor_, x, v, -(a_u_start + inv_mass_ * force_start),
+                                           input_slope_per_tick(in), T(0));
+            T root = T(0);
+            if (segment.first_crossing(d, T(0), T(1), v * d, root)) {
+              x = segment.position(root);
+              v = T(0);
+              advance_within_tick(pos, root);
+              return true;
+            }
+            if (crossed) {  // the polynomial and the map disagree only by rounding: at the end
+              x = x_end;
+              v = T(0);
+              ++pos.tick;
+              return true;
+            }
+          } else if (crossed) {
+            const T theta = v / (v - v_end);  // linear inside one tick
+            x = x + theta * (x_end - x);
+            v = T(0);
+            advance_within_tick(pos, theta);
+            return true;
+          }
+          // A dip without a crossing: accepted.
         }
-        ++level;  // bisect: try the first half
+        x = x_end;
+        v = v_end;
+        pos.tick += size;
+        break;
       }
     }
     return false;
@@ -320,7 +478,7 @@ class Oscillator {
   // with the law's value at rest (signum: the Filippov value clamp(F_L, +-F_fk), i.e. hold the load
   // or reverse against it; smoothed: 0). Friction then never does positive work: the scheme is
   // passive. Explicit integrators follow Simulink ode1 (no event location).
-  int step_held(const Input& in) noexcept {
+  STICKSLIP_OUT_OF_LINE int step_held(const Input& in) noexcept {
     int events = 0;
     T force = held_force_;
     if (stage_friction_) {
@@ -332,7 +490,7 @@ class Oscillator {
       bool starting = false;
       while (slip(pos, x_, v_, d, in, ConstantForce{force}, starting)) {
         ++events;
-        force = Law::force_at_rest(limit_force(in.at(pos.phi()), x_), friction_);
+        force = Law::force_at_rest(limit_force(in.at(phi(pos)), x_), friction_);
         // Slipping again only if the friction saturates against the load; otherwise held at rest
         // for the rest of the step (no further events to look for).
         const bool saturated = S::abs(force) == friction_.kinetic_n && force != T(0);
@@ -350,8 +508,10 @@ class Oscillator {
     return events;
   }
 
-  // Stick-slip and Stribeck: the event loop of one step.
-  int step_sticking(const Input& in, T& stuck_fraction) noexcept {
+  // Stick-slip and Stribeck: the event loop of one step. `whole_step`: the common path's whole
+  // slipping step (Coulomb), when it found an event.
+  STICKSLIP_OUT_OF_LINE int step_sticking(const Input& in, T& stuck_fraction,
+                                        const WholeSlip<T>* whole_step) noexcept {
     Position pos{0u, T(0)};
     int events = 0;
     bool starting = false;  // a slip phase begins at pos (after break-away or reversal)
@@ -359,7 +519,7 @@ class Oscillator {
       if (direction_ == T(0)) {
         // Stuck: F_L is linear in time inside the step; check the end, then solve for break-away.
         const T limit_end = limit_force(in.a1, x_);
-        const T phi_now = pos.phi();
+        const T phi_now = phi(pos);
         if (S::abs(limit_end) <= friction_.static_n || events >= kMaxEventsPerStep) {
           if (events >= kMaxEventsPerStep) ++event_budget_exhausted_;
           stuck_fraction += T(1) - phi_now;
@@ -376,11 +536,11 @@ class Oscillator {
         }
         const T phi_break = phi_now + ratio * (T(1) - phi_now);
         stuck_fraction += phi_break - phi_now;
-        const T ticks = phi_break * T(kTicksPerStep);
+        const T ticks = phi_break * T(ticks_per_step_);
         unsigned whole = static_cast<unsigned>(ticks);
-        if (whole >= kTicksPerStep) whole = kTicksPerStep;
+        if (whole >= ticks_per_step_) whole = ticks_per_step_;
         pos.tick = whole;
-        pos.frac = whole >= kTicksPerStep ? T(0) : ticks - T(whole);
+        pos.frac = whole >= ticks_per_step_ ? T(0) : ticks - T(whole);
         direction_ = d;
         v_ = T(0);
         ++events;
@@ -390,13 +550,44 @@ class Oscillator {
       const bool detect = events < kMaxEventsPerStep;
       if (!detect) ++event_budget_exhausted_;
       const T d = detect ? direction_ : T(0);
-      if (!slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, starting)) return events;
+      if (!slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, starting,
+                events == 0 ? whole_step : nullptr)) {
+        return events;
+      }
       ++events;
       // v_r reached 0: stick if the limit force is within static friction, else reverse.
-      const T limit = limit_force(in.at(pos.phi()), x_);
+      const T limit = limit_force(in.at(phi(pos)), x_);
       direction_ = S::abs(limit) <= friction_.static_n ? T(0) : signum(limit);
       starting = direction_ != T(0);
     }
+  }
+
+  // The outputs of a whole stuck step (no event): the seat moves with the floor.
+  StepOutput<T> stuck_output(T a_u, T holding_force_n) const noexcept {
+    StepOutput<T> out{};
+    out.x_r_m = x_;
+    out.v_r_m_per_s = v_;
+    out.a_x_m_per_s2 = a_u;
+    out.friction_n = holding_force_n;
+    out.stuck_time_s = dt_s_;
+    out.stuck_fraction = T(1);
+    out.stuck = true;
+    out.events = 0;
+    return out;
+  }
+
+  // The outputs of a whole slipping step (no event), with a_x already computed.
+  StepOutput<T> slip_output(T force_n, T a_x) const noexcept {
+    StepOutput<T> out{};
+    out.x_r_m = x_;
+    out.v_r_m_per_s = v_;
+    out.a_x_m_per_s2 = a_x;
+    out.friction_n = force_n;
+    out.stuck_time_s = T(0);
+    out.stuck_fraction = T(0);
+    out.stuck = false;
+    out.events = 0;
+    return out;
   }
 
   StepOutput<T> output(T a_u, T stuck_fraction, int events) const noexcept {
@@ -420,7 +611,7 @@ class Oscillator {
       force = Law::slip_force(v_, direction_, friction_);
     }
     out.friction_n = force;
-    out.a_x_m_per_s2 = -(k_over_m_ * x_ + b_over_m_ * v_ + inv_mass_ * force);
+    out.a_x_m_per_s2 = seat_acceleration(k_over_m_, b_over_m_, inv_mass_, x_, v_, force);
     return out;
   }
 
@@ -435,11 +626,27 @@ class Oscillator {
     if constexpr (Law::kind == LawKind::sticking) direction_ = T(0);
   }
 
+  // restore() for a caller that also knows the seat acceleration at that state (the batch).
+  void restore(const State& s, T slip_a_x) noexcept {
+    x_ = s.x_r_m;
+    v_ = s.v_r_m_per_s;
+    a_prev_ = s.a_u_previous;
+    direction_ = s.direction;
+    held_force_ = s.held_force_n;
+    reported_force_ = s.reported_force_n;
+    slip_a_x_ = slip_a_x;
+  }
+
   // Coefficients (read-only after configure).
   StepMap<T> maps_[kMapLevels]{};
   T block_s_[kMapLevels]{};
   T dt_s_{}, tick_s_{}, inv_dt_{}, mass_kg_{}, stiffness_{}, inv_mass_{}, k_over_m_{}, b_over_m_{};
   FrictionCoefficients<T> friction_{};
+  TaylorCoefficients<T> taylor_{};  // exact integrator: the tick's Taylor recurrence
+  T inv_ticks_{};                   // 1 / ticks_per_step_
+  T start_guard_ticks_{};           // 1/2^kEventLevels of the step, in ticks
+  int event_level_ = kEventLevels;  // ticks are blocks of dt / 2^event_level_
+  unsigned ticks_per_step_ = kTicksPerStep;
   bool stage_friction_ = false;  // RK4 with the friction law evaluated at every stage
   bool held_events_ = false;     // exact integrator: locate sign changes of held friction
 
@@ -448,6 +655,9 @@ class Oscillator {
   T held_force_{};      // held laws: friction at the start of the next step
   T reported_force_{};  // held laws: friction reported with the sample
   T direction_{};   // sticking laws: 0 stuck, +1/-1 slipping
+  // Coulomb slip: a_x at the current state with the current slip force (what the previous step
+  // reported), the start of the next step's dip test. Unused while stuck.
+  T slip_a_x_{};
   std::uint64_t event_budget_exhausted_ = 0;
   std::uint64_t rejected_inputs_ = 0;
   std::uint64_t state_resets_ = 0;

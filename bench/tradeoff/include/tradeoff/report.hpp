@@ -1,0 +1,27 @@
+// docs/PERFORMANCE.md from the harness's CSV and the facts the report script gathered, plus the
+// gnuplot script and data for the Pareto plots. Written from scratch every time: nothing in it is
+// edited by hand.
+#pragma once
+
+#include <string>
+
+namespace stickslip::tradeoff {
+
+struct ReportRequest {
+  std::string results_csv;      // the run's CSV
+  std::string results_link;     // how the .md links to it (relative to the .md)
+  std::string machine_file;     // "key: value" lines: cpu, cores, os, compiler, flags, date, commit ...
+  std::string profile_dump;     // callgrind dump of the headline configuration (optional)
+  std::string bench_step_text;  // stickslip_bench_step console output (optional)
+  std::string bench_step_json;  // the same run's --benchmark_out JSON (optional)
+  std::string output_md;
+  std::string plot_dir;    // gnuplot data and pareto.gp are written here
+  std::string image_link;  // directory of the PNGs, relative to the .md
+  std::string command;     // the one command that reproduces the report
+  double elapsed_s = 0.0;  // wall time of the command up to the report step (0: unknown)
+};
+
+// Throws host::HostError on unreadable input or an unwritable output.
+void write_report(const ReportRequest& request);
+
+}  // namespace stickslip::tradeoff

@@ -4,12 +4,15 @@
 //   stickslip_bench_step --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 //   stickslip_bench_step --benchmark_filter='stream/double/stick-slip/exact/'
 //
-// Names: stream/<scalar>/<model>/<integrator>/<scene kind>/F<friction N>, and
-// batch/<scalar>/N<lanes>/<inputs> against singles/<scalar>/N<lanes>/<inputs> (the same seats one
-// after another, each over the whole scene) and interleaved/<scalar>/N<lanes>/<inputs> (the same
-// seats as an array of single oscillators stepped together sample by sample). items_per_second counts oscillator samples; time_per_sample is in seconds (the
-// console shows it with its prefix, e.g. "5.2ns"); the other counters give the scene's figures so
-// that a harness can check it measured the scene it meant (K, T_ax, p, events per 1000 steps).
+// Names: stream/<scalar>/<model>/<integrator>/<scene kind>/F<friction N>; and for sweeps
+// batch/<scalar>/N<lanes>/<inputs> (StickSlipBatch) against singles/<scalar>/N<lanes>/<inputs>
+// (the same seats one after another, each over the whole scene) and
+// interleaved/<scalar>/N<lanes>/<inputs> (the same seats as an array of single oscillators stepped
+// together sample by sample). items_per_second counts oscillator samples; time_per_sample is in
+// seconds (the console shows it with its prefix, e.g. "5.2ns"); the other counters give the
+// scene's figures so that a harness can check it measured the scene it meant (K, T_ax, p, events
+// per 1000 steps). The machine is shared: use repetitions, medians and
+// --benchmark_enable_random_interleaving=true.
 #include <benchmark/benchmark.h>
 
 #include <cstdint>

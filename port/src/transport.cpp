@@ -1,0 +1,32 @@
+#include "stickslip/port/transport.hpp"
+
+#include "stickslip/port/loopback_transport.hpp"
+#include "stickslip/port/socketcan_transport.hpp"
+
+namespace stickslip::port {
+
+const char* transport_status_name(TransportStatus status) noexcept {
+  switch (status) {
+    case TransportStatus::ok: return "ok";
+    case TransportStatus::timeout: return "timeout";
+    case TransportStatus::closed: return "closed";
+    case TransportStatus::unsupported: return "unsupported";
+    case TransportStatus::no_such_interface: return "no such interface";
+    case TransportStatus::invalid_argument: return "invalid argument";
+    case TransportStatus::buffer_full: return "buffer full";
+    case TransportStatus::io_error: return "i/o error";
+  }
+  return "unknown";
+}
+
+std::unique_ptr<Transport> make_transport(const std::string& bus_name) {
+  if (bus_name == "loopback") return make_loopback_transport();
+  return make_socketcan_transport();
+}
+
+std::string default_bus_name() {
+  // Placeholder: the SocketCAN endpoint decides when it lands.
+  return "loopback";
+}
+
+}  // namespace stickslip::port

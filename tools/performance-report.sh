@@ -50,6 +50,32 @@ if [ -x "$bench_step" ]; then
     >"$work/bench_step.txt" 2>&1 || echo "(stickslip_bench_step exited with status $?)" >>"$work/bench_step.txt"
 fi
 
+if [ -x "$bench_step" ]; then
+  stage "batch profile: instructions per lane-step of batch and singles under callgrind"
+  mkdir -p "$work/batch-profile"
+  for name in batch/double/N8/own-inputs singles/double/N8/own-inputs \
+              batch/float/N16/own-inputs singles/float/N16/own-inputs; do
+    tag=${name//\//_}
+    valgrind --tool=callgrind --log-file="$work/batch-profile/$tag.log" \
+      --callgrind-out-file="$work/batch-profile/$tag.cg" \
+      --toggle-collect='*run_batch*' --toggle-collect='*run_stream*' \
+      "$bench_step" --benchmark_filter="^$name\$" --benchmark_min_time=0.000001 \
+      --benchmark_out="$work/batch-profile/$tag.json" --benchmark_out_format=json >/dev/null
+    callgrind_annotate --inclusive=no "$work/batch-profile/$tag.cg" >"$work/batch-profile/$tag.txt"
+  done
+  if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo; then
+    stage "batch vs singles built for AVX2 (-DSTICKSLIP_ARCH=x86-64-v3, a separate build tree)"
+    if cmake -S . -B build/avx2 -DCMAKE_BUILD_TYPE=Release -DSTICKSLIP_ARCH=x86-64-v3 \
+         -DSTICKSLIP_BUILD_TESTS=OFF >/dev/null &&
+       cmake --build build/avx2 -j "$(nproc)" --target stickslip_bench_step >/dev/null; then
+      build/avx2/bench/step/stickslip_bench_step --benchmark_filter='^(batch|singles)/' \
+        --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
+        --benchmark_out="$work/bench_step_avx2.json" --benchmark_out_format=json >/dev/null 2>&1 ||
+        echo "(AVX2 stickslip_bench_step exited with status $?)" >&2
+    fi
+  fi
+fi
+
 {
   echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $(grep -m1 'cpu MHz' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//') MHz as /proc/cpuinfo reports it"
   echo "cores: $(nproc)"
@@ -66,6 +92,7 @@ stage "report and plots"
 "$harness" report --results docs/performance/results.csv --results-link performance/results.csv \
   --machine "$work/machine.txt" --profile-dump "$profile_dump" \
   --bench-step "$work/bench_step.txt" --bench-step-json "$work/bench_step.json" \
+  --batch-profile "$work/batch-profile" --bench-step-avx2-json "$work/bench_step_avx2.json" \
   --output docs/PERFORMANCE.md --plot-dir "$work/plot" --image-link img \
   --command "tools/performance-report.sh" --elapsed "$(($(date +%s) - started))"
 

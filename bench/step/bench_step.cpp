@@ -235,6 +235,8 @@ void batch_bench(benchmark::State& state, bool own_inputs) {
   state.counters["time_per_sample"] = benchmark::Counter(
       samples, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["events_per_1k"] = 1000.0 * static_cast<double>(events) / samples;
+  // Per iteration (not a rate): lets an instruction count of one iteration be divided out.
+  state.counters["lane_steps"] = samples;
   state.counters["p_stick_lane0"] = stats.lane(0).stick_probability();
 }
 
@@ -270,6 +272,8 @@ void singles_bench(benchmark::State& state, bool own_inputs) {
   state.counters["time_per_sample"] = benchmark::Counter(
       samples, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["events_per_1k"] = 1000.0 * static_cast<double>(events) / samples;
+  // Per iteration (not a rate): lets an instruction count of one iteration be divided out.
+  state.counters["lane_steps"] = samples;
   state.counters["p_stick_lane0"] = stats[0].stick_probability();
 }
 
@@ -322,6 +326,8 @@ void interleaved_bench(benchmark::State& state, bool own_inputs) {
   state.counters["time_per_sample"] = benchmark::Counter(
       samples, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["events_per_1k"] = 1000.0 * static_cast<double>(events) / samples;
+  // Per iteration (not a rate): lets an instruction count of one iteration be divided out.
+  state.counters["lane_steps"] = samples;
   state.counters["p_stick_lane0"] = stats[0].stick_probability();
 }
 

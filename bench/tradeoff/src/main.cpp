@@ -129,6 +129,10 @@ int main(int argc, char** argv) {
   report->add_option("--bench-step", report_request.bench_step_text, "stickslip_bench_step console output");
   report->add_option("--bench-step-json", report_request.bench_step_json,
                      "the same run's --benchmark_out JSON (batch vs singles)");
+  report->add_option("--batch-profile", report_request.batch_profile_dir,
+                     "callgrind profiles of batch and singles (<tag>.json + <tag>.txt per benchmark)");
+  report->add_option("--bench-step-avx2-json", report_request.bench_step_avx2_json,
+                     "batch vs singles of a build with -march=x86-64-v3 (--benchmark_out JSON)");
   report->add_option("--output", report_request.output_md, "markdown to write")->required();
   report->add_option("--plot-dir", report_request.plot_dir, "where the gnuplot data go")->required();
   report->add_option("--image-link", report_request.image_link, "PNG directory relative to the .md")->required();

@@ -14,6 +14,11 @@ struct ReportRequest {
   std::string profile_dump;     // callgrind dump of the headline configuration (optional)
   std::string bench_step_text;  // stickslip_bench_step console output (optional)
   std::string bench_step_json;  // the same run's --benchmark_out JSON (optional)
+  // Directory with, per profiled benchmark <tag> (its name with '/' as '_'): <tag>.json (one
+  // iteration's --benchmark_out) and <tag>.txt (callgrind_annotate --inclusive=no of the run with
+  // collection on inside run_batch/run_stream only). Optional.
+  std::string batch_profile_dir;
+  std::string bench_step_avx2_json;  // batch vs singles built with -march=x86-64-v3 (optional)
   std::string output_md;
   std::string plot_dir;    // gnuplot data and pareto.gp are written here
   std::string image_link;  // directory of the PNGs, relative to the .md

@@ -32,3 +32,12 @@ template class BatchStatistics<double, 8>;
 template class BatchStatistics<float, 8>;
 
 }  // namespace stickslip
+
+// Ride comfort (ISO 2631-1 weightings and figures).
+#include "stickslip/metrics/ride_comfort.hpp"
+namespace stickslip {
+template class WeightingFilter<float>;
+template class WeightingFilter<double>;
+template class RideComfort<float>;
+template class RideComfort<double>;
+}  // namespace stickslip

@@ -212,3 +212,40 @@ TEST(Observer, UsesNoHeap) {
   CHECK_TRUE(ok);
   UNSIGNED_LONGS_EQUAL(0, seen.calls);
 }
+
+// A slow sweep of K from 0.2 to 1.1 (the road getting smoother): the regime changes exactly twice,
+// each time as soon as the window's K has passed the documented threshold plus the hysteresis
+// (0.4 + 0.05, then 0.75 + 0.05), and never flickers back.
+TEST(Observer, RegimeChangesAtTheDocumentedThresholdsOnAKSweep) {
+  const double friction_n = 20.0, duration_s = 300.0;
+  ObserverParams p = observer_params(friction_n, 10.0);
+  static Observer<double, CoulombStickSlip> observer;
+  CHECK_TRUE(observer.configure(p).ok());
+  const auto count = static_cast<std::size_t>(duration_s / kDt) + 1;
+  const test::LorrySignal road = test::make_lorry_signal(21, 1.0);
+  // K(t) = K0 / g(t) for a_u = g(t) * road(t) with RMS(road) = 1: g = K0 / K_target(t).
+  const double k_at_unit_rms = den_hartog_factor(friction_n, p.model.mass_kg, 1.0);
+  const auto gain = [&](double t) { return k_at_unit_rms / (0.2 + 0.9 * t / duration_s); };
+  observer.reset(gain(0.0) * road.at(0.0));
+  std::uint32_t changes = 0;
+  double k_at_change[4] = {};
+  FrictionRegime regime_after[4] = {};
+  for (std::size_t n = 1; n < count; ++n) {
+    const double t = static_cast<double>(n) * kDt;
+    observer.update(gain(t) * road.at(t));
+    if (n % 1000 == 0) {  // a block completes every second
+      const ObserverSummary s = observer.summary();
+      if (s.regime_changes != changes && changes < 4) {
+        k_at_change[changes] = s.den_hartog_k;
+        regime_after[changes] = s.regime;
+        changes = s.regime_changes;
+      }
+    }
+  }
+  CHECK_EQUAL(2u, changes);
+  CHECK_TRUE(regime_after[0] == FrictionRegime::transition);
+  CHECK_TRUE(regime_after[1] == FrictionRegime::stick_slip_required);
+  // K grows by about 0.003 per second here; the window's K fluctuates with the road by a few %.
+  CHECK_TRUE(k_at_change[0] > kSignumSufficesBelowK + 0.05 && k_at_change[0] < 0.5);
+  CHECK_TRUE(k_at_change[1] > kStickSlipRequiredAboveK + 0.05 && k_at_change[1] < 0.86);
+}

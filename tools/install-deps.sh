@@ -5,7 +5,7 @@
 #   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind)
 set -euo pipefail
 
-packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev)
+packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev libtomlplusplus-dev)
 for group in "$@"; do
   case "$group" in
     --report) packages+=(gnuplot-nox valgrind) ;;

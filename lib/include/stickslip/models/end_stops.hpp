@@ -1,0 +1,365 @@
+// The seat with end stops: the stroke is free within +-travel; beyond it a stiff, damped stop acts
+// (Kelvin-Voigt: F_stop = k_s (x_r - travel sgn x_r) + b_s v_r while |x_r| > travel). Friction:
+// none, or Coulomb stick-slip (F_fs >= F_fk). Exact discretisation only.
+//
+// Between events the motion is linear in each mode (free or in contact, stuck or slipping one
+// way), so it is advanced by that mode's precomputed exact affine maps (first-order-hold input),
+// for the whole step or for dyadic blocks of it (dt / 2^l, l = 0..16), all computed in
+// configure(). Events inside the step — contact, release, stick, reversal, break-away — are found
+// on the step's grid of 2^16 ticks: a scan in 16 blocks, then bisection down to one tick (the event
+// is placed at the end of its tick: 15 ns at dt = 1 ms; against a fine-step reference the
+// contact instants agree to that and the motion to 2e-6 of its amplitude with a damped stop,
+// whose force jumps by b_s v_r at contact); a break-away, where the limit force is
+// linear in time, is solved for directly. A contact or a double crossing of v_r = 0 shorter than a
+// sixteenth of the step may go unseen; it moves the state by no more than that short interval can.
+//
+// Common path (no event): one affine map and a few compares, like Oscillator's.
+#pragma once
+
+#include <cstdint>
+#include <type_traits>
+
+#include "stickslip/core/params.hpp"
+#include "stickslip/core/scalar.hpp"
+#include "stickslip/core/status.hpp"
+#include "stickslip/friction/laws.hpp"
+#include "stickslip/integrators/discretisation.hpp"
+#include "stickslip/integrators/step_map.hpp"
+#include "stickslip/models/oscillator.hpp"
+
+namespace stickslip {
+
+struct EndStopParams {
+  double travel_m = 0.05;             // free stroke each way from x_r = 0
+  double stiffness_n_per_m = 2.0e5;   // stop stiffness k_s (added to k while in contact)
+  double damping_ns_per_m = 2.0e3;    // stop damping b_s (added to b while in contact)
+};
+
+// Validates the stop parameters (finite, travel > 0, k_s > 0, b_s >= 0) and, for the contact
+// mode, what discretise() checks for k + k_s and b + b_s. Names the parameter.
+ConfigResult check_end_stops(const OscillatorParams& seat, const EndStopParams& stops,
+                             DiscreteModel& free_model, DiscreteModel& contact_model) noexcept;
+
+// What the last step did at the stops (step() itself returns the StepOutput every model does).
+template <typename T>
+struct StopContacts {
+  std::int8_t contact = 0;          // at the end of the step: -1 lower stop, 0 free, +1 upper stop
+  std::uint8_t contact_events = 0;  // contacts begun inside this step
+  T first_contact_s = T(-1);        // time into the step of the first contact begun, -1 if none
+};
+
+template <typename T, typename Law>
+class EndStopOscillator {
+  static_assert(std::is_same_v<Law, NoFriction> || std::is_same_v<Law, CoulombStickSlip>,
+                "end stops are modelled with no friction or with Coulomb stick-slip");
+  using S = ScalarTraits<T>;
+  static constexpr bool kSticking = std::is_same_v<Law, CoulombStickSlip>;
+  static constexpr unsigned kTicks = kTicksPerStep;       // 2^16 ticks per step
+  static constexpr unsigned kScanBlock = kTicks / 16;     // the event scan's block
+  static constexpr int kBudget = kMaxEventsPerStep;
+
+ public:
+  ConfigResult configure(const OscillatorParams& seat, const EndStopParams& stops) noexcept {
+    DiscreteModel free_model, contact_model;
+    ConfigResult result = check_end_stops(seat, stops, free_model, contact_model);
+    if (!result.ok()) return result;
+    if (seat.model != Law::model || seat.integrator != Integrator::exact) {
+      result.status = Status::unsupported;
+      result.message.clear();
+      result.message.append("end stops run the '")
+          .append(model_name(Law::model))
+          .append("' model with the exact integrator; got '")
+          .append(model_name(seat.model))
+          .append("' with '")
+          .append(integrator_name(seat.integrator))
+          .append("'");
+      return result;
+    }
+    for (int l = 0; l < kMapLevels; ++l) {
+      maps_[0][l] = StepMap<T>::from_double(free_model.maps[l]);
+      maps_[1][l] = StepMap<T>::from_double(contact_model.maps[l]);
+    }
+    mass_kg_ = S::from_double(seat.mass_kg);
+    inv_mass_ = S::from_double(free_model.inv_mass);
+    stiffness_ = S::from_double(seat.stiffness_n_per_m);
+    damping_ = S::from_double(seat.damping_ns_per_m);
+    stop_stiffness_ = S::from_double(stops.stiffness_n_per_m);
+    stop_damping_ = S::from_double(stops.damping_ns_per_m);
+    travel_ = S::from_double(stops.travel_m);
+    kinetic_n_ = S::from_double(kSticking ? seat.kinetic_friction_n : 0.0);
+    static_n_ = S::from_double(kSticking ? seat.static_friction_n : 0.0);
+    dt_s_ = S::from_double(seat.dt_s);
+    tick_fraction_ = S::from_double(1.0 / double(kTicks));  // a power of two
+    reset(T(0), T(0), T(0));
+    return result;
+  }
+
+  void reset(T x0_m, T v0_m_per_s, T a_u0) noexcept {
+    x_ = x0_m;
+    v_ = v0_m_per_s;
+    a_prev_ = a_u0;
+    contact_ = region(x_);
+    direction_ = T(0);
+    if constexpr (kSticking) {
+      if (v_ != T(0)) {
+        direction_ = v_ > T(0) ? T(1) : T(-1);
+      } else if (S::abs(limit_force(x_, a_u0)) > static_n_) {
+        direction_ = limit_force(x_, a_u0) > T(0) ? T(-1) : T(1);
+      }
+    } else {
+      direction_ = T(1);  // no friction: "slipping" with zero force, never stuck
+    }
+    contacts_ = 0;
+    event_budget_exhausted_ = 0;
+  }
+
+  StepOutput<T> step(T a_u_next) noexcept {
+    if (!S::is_finite(a_u_next)) a_u_next = a_prev_;
+    const Input in{a_prev_, a_u_next};
+    StopContacts<T>& out = contacts_last_;
+    out = StopContacts<T>{};
+    T stuck_ticks = T(0);
+    int events = 0;
+
+    if (kSticking && direction_ == T(0)) {
+      // Stuck: F_L is linear in time over the step; it held at the start.
+      if (S::abs(limit_force(x_, in.a1)) <= static_n_) {
+        a_prev_ = a_u_next;
+        out.contact = static_cast<std::int8_t>(contact_);
+        return output(in.a1, T(1), 0);
+      }
+    } else {
+      // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
+      T x = x_, v = v_;
+      advance(x, v, contact_, direction_, 0, kTicks, in);
+      if (!event_between(x_, v_, x, v, in.a0, in.a1)) {
+        x_ = x;
+        v_ = v;
+        a_prev_ = a_u_next;
+        out.contact = static_cast<std::int8_t>(contact_);
+        return output(in.a1, T(0), 0);
+      }
+    }
+    events = search(in, stuck_ticks, out);
+    a_prev_ = a_u_next;
+    out.contact = static_cast<std::int8_t>(contact_);
+    return output(in.a1, stuck_ticks * tick_fraction_, events);
+  }
+
+  T x_r() const noexcept { return x_; }
+  T v_r() const noexcept { return v_; }
+  int contact() const noexcept { return contact_; }
+  const StopContacts<T>& last_step_contacts() const noexcept { return contacts_last_; }
+  bool stuck() const noexcept { return kSticking && direction_ == T(0); }
+  std::uint64_t contacts() const noexcept { return contacts_; }
+  std::uint64_t event_budget_exhausted() const noexcept { return event_budget_exhausted_; }
+  // Mechanical energy of the seat: kinetic, spring and stop (J).
+  double energy_j() const noexcept {
+    const double x = S::to_double(x_), v = S::to_double(v_);
+    const double m = S::to_double(mass_kg_), k = S::to_double(stiffness_);
+    const double pen = penetration(x);
+    return 0.5 * m * v * v + 0.5 * k * x * x + 0.5 * S::to_double(stop_stiffness_) * pen * pen;
+  }
+
+ private:
+  struct Input {
+    T a0, a1;
+    T at(T phi) const noexcept { return (T(1) - phi) * a0 + phi * a1; }
+  };
+
+  int region(T x) const noexcept { return x > travel_ ? 1 : (x < -travel_ ? -1 : 0); }
+  double penetration(double x) const noexcept {
+    const double travel = S::to_double(travel_);
+    return x > travel ? x - travel : (x < -travel ? x + travel : 0.0);
+  }
+  // Spring force of the stop at x (its damping vanishes with v_r = 0).
+  T stop_spring_force(T x) const noexcept {
+    const int c = region(x);
+    return c == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(c));
+  }
+  // F_L = m a_u + k x_r + F_stop(x_r): the force friction must hold for the seat to stay put.
+  T limit_force(T x, T a_u) const noexcept { return mass_kg_ * a_u + stiffness_ * x + stop_spring_force(x); }
+
+  // Advances (x, v) from tick `from` by `count` ticks in mode (contact c, direction d), as dyadic
+  // blocks (largest first): exact for the mode's linear motion with the FOH input.
+  void advance(T& x, T& v, int c, T d, unsigned from, unsigned count, const Input& in) const noexcept {
+    const T offset = inv_mass_ * (kinetic_n_ * d - stop_stiffness_ * travel_ * T(c));
+    const StepMap<T>* maps = maps_[c != 0 ? 1 : 0];
+    unsigned at = from;
+    for (int level = 0; level < kMapLevels && count > 0; ++level) {
+      const unsigned block = kTicks >> level;
+      while (count >= block) {
+        const T g0 = -(in.at(T(at) * tick_fraction_) + offset);
+        const T g1 = -(in.at(T(at + block) * tick_fraction_) + offset);
+        const StepMap<T>& m = maps[level];
+        const T xn = (m.xx * x + m.xv * v) + (m.gx0 * g0 + m.gx1 * g1);
+        const T vn = (m.vx * x + m.vv * v) + (m.gv0 * g0 + m.gv1 * g1);
+        x = xn;
+        v = vn;
+        at += block;
+        count -= block;
+      }
+    }
+  }
+
+  // Acceleration of v_r in the current mode at state (x, v) and input a.
+  T relative_acceleration(T x, T v, T a) const noexcept {
+    const int c = region(x);
+    const T stop = c == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(c)) + stop_damping_ * v;
+    return -(inv_mass_ * (stiffness_ * x + damping_ * v + stop + kinetic_n_ * direction_) + a);
+  }
+
+  // Whether a step from (x0, v0) to (x1, v1) in the current mode may contain an event: a region
+  // change, v_r reaching 0 against the slip direction, or v_r dipping towards 0 and back (a
+  // possible double crossing, for which the search scans the step), and for the frictionless seat
+  // a turn of v_r (its x_r may have touched a stop in between).
+  bool event_between(T x0, T v0, T x1, T v1, T a0, T a1) const noexcept {
+    if (region(x1) != contact_) return true;
+    const T d = direction_;
+    const T acc0 = relative_acceleration(x0, v0, a0), acc1 = relative_acceleration(x1, v1, a1);
+    if constexpr (kSticking) {
+      if (v1 * d <= T(0)) return true;
+      return (acc0 * d < T(0)) & (acc1 * d > T(0));
+    } else {
+      return (v0 * v1 <= T(0)) | ((v0 * acc0 < T(0)) & (v1 * acc1 > T(0)));
+    }
+  }
+
+  // True when, at state (x, v), the current mode no longer holds.
+  bool mode_ends(T x, T v) const noexcept {
+    if (region(x) != contact_) return true;
+    if constexpr (kSticking) return v * direction_ <= T(0);
+    return false;
+  }
+
+  // The event-driven remainder of a step. Returns the number of events.
+  int search(const Input& in, T& stuck_ticks, StopContacts<T>& out) noexcept {
+    unsigned t = 0;  // ticks done
+    int events = 0;
+    while (t < kTicks) {
+      if (events >= kBudget) {
+        ++event_budget_exhausted_;
+        // Finish in the current mode without further events.
+        if (direction_ != T(0)) advance(x_, v_, contact_, direction_, t, kTicks - t, in);
+        else stuck_ticks += T(kTicks - t);
+        return events;
+      }
+      if (kSticking && direction_ == T(0)) {
+        // Stuck from tick t: find where |F_L| first exceeds F_fs (F_L linear in time).
+        const T f0 = limit_force(x_, in.at(T(t) * tick_fraction_));
+        const T f1 = limit_force(x_, in.a1);
+        if (S::abs(f1) <= static_n_) {
+          stuck_ticks += T(kTicks - t);
+          v_ = T(0);
+          return events;
+        }
+        const T bound = f1 > T(0) ? static_n_ : -static_n_;
+        const T share = (bound - f0) / (f1 - f0);  // in [0, 1]: f0 holds, f1 does not
+        unsigned ticks = static_cast<unsigned>(S::to_double(share) * double(kTicks - t)) + 1u;
+        if (ticks > kTicks - t) ticks = kTicks - t;
+        stuck_ticks += T(ticks);
+        t += ticks;
+        direction_ = f1 > T(0) ? T(-1) : T(1);  // break-away against F_L
+        v_ = T(0);
+        ++events;
+        continue;
+      }
+      // Moving: scan blocks of kScanBlock for the first one whose end no longer fits the mode.
+      T x = x_, v = v_;
+      unsigned end = t;
+      bool found = false;
+      while (end < kTicks) {
+        const unsigned next = (end / kScanBlock + 1) * kScanBlock;
+        T xn = x, vn = v;
+        advance(xn, vn, contact_, direction_, end, next - end, in);
+        if (mode_ends(xn, vn)) {
+          // Bisect (end, next] for the first tick whose state leaves the mode.
+          unsigned lo = end, hi = next;
+          T x_lo = x, v_lo = v;
+          while (hi - lo > 1) {
+            const unsigned mid = lo + (hi - lo) / 2;
+            T xm = x_lo, vm = v_lo;
+            advance(xm, vm, contact_, direction_, lo, mid - lo, in);
+            if (mode_ends(xm, vm)) {
+              hi = mid;
+            } else {
+              lo = mid;
+              x_lo = xm;
+              v_lo = vm;
+            }
+          }
+          advance(x_lo, v_lo, contact_, direction_, lo, hi - lo, in);
+          x = x_lo;
+          v = v_lo;
+          end = hi;
+          found = true;
+          break;
+        }
+        x = xn;
+        v = vn;
+        end = next;
+      }
+      x_ = x;
+      v_ = v;
+      t = end;
+      if (!found) return events;
+      ++events;
+      const int now = region(x_);
+      if (now != contact_) {
+        if (now != 0 && contact_ == 0) {
+          ++contacts_;
+          if (out.contact_events == 0) out.first_contact_s = T(t) * tick_fraction_ * dt_s_;
+          ++out.contact_events;
+        }
+        contact_ = now;
+      }
+      if constexpr (kSticking) {
+        if (v_ * direction_ <= T(0)) {
+          // v_r reached 0: stick if friction can hold the seat, else reverse.
+          const T f = limit_force(x_, in.at(T(t) * tick_fraction_));
+          v_ = T(0);
+          if (S::abs(f) <= static_n_) {
+            direction_ = T(0);
+          } else {
+            direction_ = f > T(0) ? T(-1) : T(1);
+          }
+        }
+      }
+    }
+    return events;
+  }
+
+  StepOutput<T> output(T a_u, T stuck_fraction, int events) const noexcept {
+    StepOutput<T> o{};
+    o.x_r_m = x_;
+    o.v_r_m_per_s = v_;
+    const int c = region(x_);
+    const T stop = c == 0 ? T(0) : stop_stiffness_ * (x_ - travel_ * T(c)) + stop_damping_ * v_;
+    if (kSticking && direction_ == T(0)) {
+      o.friction_n = -limit_force(x_, a_u);  // holding force
+      o.a_x_m_per_s2 = a_u;                   // stuck: the seat moves with the floor, exactly
+      o.stuck = true;
+    } else {
+      o.friction_n = kinetic_n_ * direction_;
+      o.a_x_m_per_s2 = -inv_mass_ * (stiffness_ * x_ + damping_ * v_ + stop + o.friction_n);
+      o.stuck = false;
+    }
+    o.stuck_fraction = stuck_fraction;
+    o.stuck_time_s = stuck_fraction * dt_s_;
+    o.events = static_cast<std::uint8_t>(events);
+    return o;
+  }
+
+  StepMap<T> maps_[2][kMapLevels]{};  // [free, contact][level]
+  T mass_kg_{}, inv_mass_{}, stiffness_{}, damping_{};
+  T stop_stiffness_{}, stop_damping_{}, travel_{};
+  T kinetic_n_{}, static_n_{};
+  T dt_s_{}, tick_fraction_{};
+  T x_{}, v_{}, a_prev_{}, direction_{};
+  int contact_ = 0;
+  StopContacts<T> contacts_last_{};
+  std::uint64_t contacts_ = 0;
+  std::uint64_t event_budget_exhausted_ = 0;
+};
+
+}  // namespace stickslip

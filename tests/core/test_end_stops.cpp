@@ -1,0 +1,242 @@
+// End stops: contact and release located inside the step, the motion against a fine-step
+// reference, energy bounded, stick-slip unchanged while the stops are out of reach.
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "CppUTest/TestHarness.h"
+#include "oracles.hpp"
+#include "stickslip/friction/laws.hpp"
+#include "stickslip/models/end_stops.hpp"
+#include "support/allocation_counter.hpp"
+
+using namespace stickslip;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDt = 1e-3;
+
+OscillatorParams seat(FrictionModel model, double damping, double friction_n = 0.0) {
+  OscillatorParams p = test::reference_params(model, Integrator::exact, kDt, damping);
+  p.kinetic_friction_n = p.static_friction_n = friction_n;
+  return p;
+}
+
+EndStopParams stops() {
+  EndStopParams s;
+  s.travel_m = 0.03;
+  s.stiffness_n_per_m = 2.0e5;
+  s.damping_ns_per_m = 2.0e3;
+  return s;
+}
+
+// Classic RK4 with step h on the frictionless seat with stops, first-order-hold input: the
+// fine-step reference (the stop's kink costs it accuracy only at contact, O(h^2) there).
+struct Reference {
+  std::vector<double> x, v;
+  std::vector<double> contact_times_s;
+};
+
+Reference reference(const OscillatorParams& p, const EndStopParams& s, const std::vector<double>& a_u,
+                    int substeps) {
+  const double m = p.mass_kg, k = p.stiffness_n_per_m, b = p.damping_ns_per_m;
+  const auto force = [&](double x, double v) {
+    if (x > s.travel_m) return s.stiffness_n_per_m * (x - s.travel_m) + s.damping_ns_per_m * v;
+    if (x < -s.travel_m) return s.stiffness_n_per_m * (x + s.travel_m) + s.damping_ns_per_m * v;
+    return 0.0;
+  };
+  const auto accel = [&](double x, double v, double a) { return -(k * x + b * v + force(x, v)) / m - a; };
+  Reference r;
+  r.x.push_back(0.0);
+  r.v.push_back(0.0);
+  double x = 0.0, v = 0.0;
+  const double h = kDt / substeps;
+  for (std::size_t n = 1; n < a_u.size(); ++n) {
+    for (int j = 0; j < substeps; ++j) {
+      const auto input = [&](double phi) { return (1 - phi) * a_u[n - 1] + phi * a_u[n]; };
+      const double p0 = double(j) / substeps, p1 = double(j + 1) / substeps, ph = (p0 + p1) / 2;
+      const double k1x = v, k1v = accel(x, v, input(p0));
+      const double k2x = v + h / 2 * k1v, k2v = accel(x + h / 2 * k1x, v + h / 2 * k1v, input(ph));
+      const double k3x = v + h / 2 * k2v, k3v = accel(x + h / 2 * k2x, v + h / 2 * k2v, input(ph));
+      const double k4x = v + h * k3v, k4v = accel(x + h * k3x, v + h * k3v, input(p1));
+      const double xn = x + h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+      const double vn = v + h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      if (std::fabs(x) <= s.travel_m && std::fabs(xn) > s.travel_m) {
+        // Contact inside this substep: linear interpolation of the crossing.
+        const double edge = xn > 0 ? s.travel_m : -s.travel_m;
+        r.contact_times_s.push_back((double(n - 1) + p0) * kDt + h * (edge - x) / (xn - x));
+      }
+      x = xn;
+      v = vn;
+    }
+    r.x.push_back(x);
+    r.v.push_back(v);
+  }
+  return r;
+}
+
+std::vector<double> harmonic(double amplitude, double frequency_hz, std::size_t count) {
+  std::vector<double> a(count);
+  for (std::size_t n = 0; n < count; ++n) a[n] = amplitude * std::sin(2 * kPi * frequency_hz * double(n) * kDt);
+  return a;
+}
+
+}  // namespace
+
+TEST_GROUP(EndStops){};
+
+// A large harmonic input drives the seat into both stops every cycle; the exact step with in-step
+// contact location follows a fine-step RK4 reference, and every contact instant matches.
+TEST(EndStops, LargeHarmonicInputHitsTheStopsAndMatchesAFineReference) {
+  const OscillatorParams p = seat(FrictionModel::linear, 504.0);
+  const EndStopParams s = stops();
+  const std::vector<double> a = harmonic(6.0, 1.5, 4001);  // 4 s
+  EndStopOscillator<double, NoFriction> model;
+  CHECK_TRUE(model.configure(p, s).ok());
+  model.reset(0.0, 0.0, a[0]);
+  const Reference ref = reference(p, s, a, 1000);
+  double worst = 0.0, largest = 0.0;
+  std::vector<double> contact_times;
+  for (std::size_t n = 1; n < a.size(); ++n) {
+    const StepOutput<double> out = model.step(a[n]);
+    const StopContacts<double>& stop = model.last_step_contacts();
+    worst = std::fmax(worst, std::fabs(out.x_r_m - ref.x[n]));
+    largest = std::fmax(largest, std::fabs(ref.x[n]));
+    if (stop.contact_events > 0) contact_times.push_back(double(n - 1) * kDt + stop.first_contact_s);
+    CHECK_TRUE(stop.contact_events <= 1);
+  }
+  CHECK_TRUE(largest > s.travel_m + 0.005);  // it really goes into the stops
+  // Measured: 7.8e-8 m of 3.6e-2 m (2e-6). Each contact is placed at the end of its tick (15 ns),
+  // and the stop's damping switches a force of b_s v_r (600 N here) on at contact, so each
+  // placement shifts the velocity by up to (b_s v_r / m) x tick.
+  CHECK_TRUE(worst < 5e-6 * largest);
+  CHECK_EQUAL(ref.contact_times_s.size(), contact_times.size());
+  CHECK_TRUE(contact_times.size() >= 10);    // both stops, every cycle
+  for (std::size_t i = 0; i < contact_times.size(); ++i) {
+    // The first contact to its tick (15 ns); later ones carry the state's drift above (measured
+    // up to 6.6e-8 s).
+    DOUBLES_EQUAL(ref.contact_times_s[i], contact_times[i], i == 0 ? 1.6e-8 : 2e-7);
+  }
+  CHECK_EQUAL(contact_times.size(), model.contacts());
+  CHECK_EQUAL(0u, model.event_budget_exhausted());
+}
+
+// With no input, no viscous or stop damping and no friction the energy (kinetic, spring, stop) is
+// conserved through many contacts; with damping or friction it never rises.
+TEST(EndStops, EnergyIsConservedOrDecaysThroughContacts) {
+  for (const int variant : {0, 1, 2}) {
+    OscillatorParams p = seat(variant == 2 ? FrictionModel::stick_slip : FrictionModel::linear,
+                              variant == 1 ? 504.0 : 0.0, variant == 2 ? 40.0 : 0.0);
+    EndStopParams s = stops();
+    if (variant == 0) s.damping_ns_per_m = 0.0;
+    EndStopOscillator<double, NoFriction> free_seat;
+    EndStopOscillator<double, CoulombStickSlip> friction_seat;
+    const bool ok = variant == 2 ? friction_seat.configure(p, s).ok() : free_seat.configure(p, s).ok();
+    CHECK_TRUE(ok);
+    free_seat.reset(0.06, 0.0, 0.0);  // starts 3 cm into the upper stop
+    friction_seat.reset(0.06, 0.0, 0.0);
+    const double e0 = variant == 2 ? friction_seat.energy_j() : free_seat.energy_j();
+    double previous = e0, largest_rise = 0.0;
+    std::uint64_t contacts = 0;
+    for (int n = 0; n < 10000; ++n) {
+      double e = 0.0;
+      if (variant == 2) {
+        friction_seat.step(0.0);
+        e = friction_seat.energy_j();
+        contacts = friction_seat.contacts();
+      } else {
+        free_seat.step(0.0);
+        e = free_seat.energy_j();
+        contacts = free_seat.contacts();
+      }
+      largest_rise = std::fmax(largest_rise, e - previous);
+      previous = e;
+    }
+    if (variant == 0) {
+      CHECK_TRUE(contacts >= 10);
+      DOUBLES_EQUAL(e0, previous, 1e-6 * e0);  // conserved
+    } else {
+      CHECK_TRUE(previous < e0);
+    }
+    CHECK_TRUE(largest_rise <= 1e-6 * e0);
+  }
+}
+
+// With the stops out of reach the stick-slip seat is the plain stick-slip oscillator (events to a
+// tick); with them in reach, a stuck seat still moves with the floor exactly.
+TEST(EndStops, StickSlipUnchangedOutOfReachAndStuckMeansAxEqualsAu) {
+  const OscillatorParams p = seat(FrictionModel::stick_slip, 504.0, 30.0);
+  const std::vector<double> a = test::make_lorry_signal(7, 0.5).sample(kDt, 20001);
+  EndStopParams far = stops();
+  far.travel_m = 1.0;
+  EndStopOscillator<double, CoulombStickSlip> with_stops;
+  Oscillator<double, CoulombStickSlip> plain;
+  CHECK_TRUE(with_stops.configure(p, far).ok());
+  CHECK_TRUE(plain.configure(p).ok());
+  with_stops.reset(0.0, 0.0, a[0]);
+  plain.reset(0.0, 0.0, a[0]);
+  double worst = 0.0, largest = 0.0, stuck = 0.0;
+  for (std::size_t n = 1; n < a.size(); ++n) {
+    const StepOutput<double> got = with_stops.step(a[n]);
+    const StepOutput<double> want = plain.step(a[n]);
+    worst = std::fmax(worst, std::fabs(got.x_r_m - want.x_r_m));
+    largest = std::fmax(largest, std::fabs(want.x_r_m));
+    stuck += want.stuck_fraction;
+    if (got.stuck) CHECK_EQUAL(a[n], got.a_x_m_per_s2);
+  }
+  CHECK_TRUE(stuck > 1000.0);       // steps' worth of sticking: the stick paths ran
+  CHECK_TRUE(worst < 1e-6 * largest);  // event instants to a tick instead of Newton's 1e-15 s
+
+  // Stops in reach: a strong input pushes the seat into a stop where it may stick.
+  EndStopParams near = stops();
+  near.travel_m = 0.004;
+  CHECK_TRUE(with_stops.configure(p, near).ok());
+  with_stops.reset(0.0, 0.0, a[0]);
+  std::uint64_t stuck_steps = 0;
+  for (std::size_t n = 1; n < a.size(); ++n) {
+    const StepOutput<double> got = with_stops.step(3.0 * a[n]);
+    CHECK_TRUE(std::isfinite(got.x_r_m));
+    if (got.stuck) {
+      ++stuck_steps;
+      CHECK_EQUAL(3.0 * a[n], got.a_x_m_per_s2);
+    }
+  }
+  CHECK_TRUE(with_stops.contacts() > 10);
+  CHECK_TRUE(stuck_steps > 100);
+  CHECK_EQUAL(0u, with_stops.event_budget_exhausted());
+}
+
+TEST(EndStops, ConfigureNamesTheBadStopParameter) {
+  EndStopOscillator<double, NoFriction> model;
+  EndStopParams s = stops();
+  s.travel_m = 0.0;
+  ConfigResult r = model.configure(seat(FrictionModel::linear, 504.0), s);
+  STRCMP_CONTAINS("end_stop_travel_m", r.message.c_str());
+  s = stops();
+  s.damping_ns_per_m = NAN;
+  r = model.configure(seat(FrictionModel::linear, 504.0), s);
+  STRCMP_CONTAINS("end_stop_damping_ns_per_m", r.message.c_str());
+  s = stops();
+  s.stiffness_n_per_m = 1e9;  // in contact, omega0 dt far beyond pi/2 at 1 ms
+  r = model.configure(seat(FrictionModel::linear, 504.0), s);
+  CHECK_FALSE(r.ok());
+  STRCMP_CONTAINS("end_stop_stiffness_n_per_m", r.message.c_str());
+  OscillatorParams rk4 = seat(FrictionModel::linear, 504.0);
+  rk4.integrator = Integrator::rk4;
+  r = model.configure(rk4, stops());
+  CHECK_TRUE(r.status == Status::unsupported);
+}
+
+TEST(EndStops, StepUsesNoHeap) {
+  const std::vector<double> a = harmonic(6.0, 1.5, 3001);
+  static EndStopOscillator<double, CoulombStickSlip> model;
+  test::start_counting_allocations();
+  const bool ok = model.configure(seat(FrictionModel::stick_slip, 504.0, 30.0), stops()).ok();
+  model.reset(0.0, 0.0, a[0]);
+  for (std::size_t n = 1; n < a.size(); ++n) model.step(a[n]);
+  const auto seen = test::stop_counting_allocations();
+  CHECK_TRUE(ok);
+  CHECK_TRUE(model.contacts() > 0);
+  UNSIGNED_LONGS_EQUAL(0, seen.calls);
+}

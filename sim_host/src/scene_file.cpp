@@ -77,13 +77,6 @@ std::optional<std::uint32_t> can_id(const std::string& path, const toml::table& 
 
 }  // namespace
 
-FrictionModel model_for_effects(unsigned effects) noexcept {
-  if ((effects & kCoulomb) == 0) return FrictionModel::linear;
-  if (effects & kStribeck) return FrictionModel::stribeck;
-  if (effects & kStaticFriction) return FrictionModel::stick_slip;
-  return FrictionModel::signum;
-}
-
 Scene read_scene_file(const std::string& path) {
   toml::table root;
   try {
@@ -91,7 +84,7 @@ Scene read_scene_file(const std::string& path) {
   } catch (const toml::parse_error& e) {
     throw HostError(where(path, e.source()) + ": " + std::string(e.description()));
   }
-  only_keys(path, root, "top level", {"scene", "seat", "can"});
+  only_keys(path, root, "top level", {"scene", "seat", "end_stops", "can"});
   const toml::table* scene_table = root["scene"].as_table();
   if (scene_table == nullptr) throw HostError(path + ": missing table [scene]");
   only_keys(path, *scene_table, "scene", {"name", "effects", "model", "integrator", "sample_rate_hz"});
@@ -117,9 +110,6 @@ Scene read_scene_file(const std::string& path) {
   }
   if ((scene.effects & kSpring) == 0) {
     fail(path, *effects_node, "a seat needs its 'spring' (the core models a suspended seat, k > 0)");
-  }
-  if (scene.effects & kEndStops) {
-    fail(path, *effects_node, "effect 'end_stops' is not modelled by the core yet");
   }
   if ((scene.effects & kStaticFriction) && !(scene.effects & kCoulomb)) {
     fail(path, *effects_node, "'static_friction' needs 'coulomb' (F_fs >= F_fk)");
@@ -198,6 +188,26 @@ Scene read_scene_file(const std::string& path) {
   }
   // Coulomb without static friction: F_fs = F_fk (what the signum and smooth laws assume anyway).
   if ((scene.effects & kStaticFriction) == 0) p.static_friction_n = p.kinetic_friction_n;
+
+  if (const toml::table* stops = root["end_stops"].as_table()) {
+    if ((scene.effects & kEndStops) == 0) fail(path, *stops, "[end_stops] given but the scene has no 'end_stops' effect");
+    only_keys(path, *stops, "end_stops", {"travel_m", "stiffness_n_per_m", "damping_ns_per_m"});
+    const auto required = [&](std::string_view key) {
+      const auto v = number(path, *stops, key);
+      if (!v) fail(path, *stops, "[end_stops] needs '" + std::string(key) + "'");
+      return *v;
+    };
+    scene.stops.travel_m = required("travel_m");
+    scene.stops.stiffness_n_per_m = required("stiffness_n_per_m");
+    scene.stops.damping_ns_per_m = number(path, *stops, "damping_ns_per_m").value_or(0.0);
+  } else if (scene.effects & kEndStops) {
+    fail(path, *effects_node, "effect 'end_stops' needs an [end_stops] table (travel_m, stiffness_n_per_m)");
+  }
+  if ((scene.effects & kEndStops) && p.model != FrictionModel::linear && p.model != FrictionModel::stick_slip) {
+    fail(path, *effects_node, std::string("end stops run with no friction or with stick-slip, not '") +
+                                  model_name(p.model) + "'");
+  }
+  if (scene.effects & kEndStops) p.integrator = Integrator::exact;  // the end-stop model's only one
 
   if (const toml::table* can = root["can"].as_table()) {
     only_keys(path, *can, "can", {"input_id", "output_id"});

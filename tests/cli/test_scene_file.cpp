@@ -54,6 +54,16 @@ TEST(SceneFile, ExampleScenesInTheRepositoryLoad) {
   const Scene stribeck = read_scene_file(dir + "stribeck-undamped.toml");
   CHECK_TRUE(stribeck.params.model == FrictionModel::stribeck);
   DOUBLES_EQUAL(0.0, stribeck.params.damping_ns_per_m, 0.0);  // no damper effect: b = 0
+  const Scene stops = read_scene_file(dir + "seat-with-end-stops.toml");
+  CHECK_TRUE(stops.effects & kEndStops);
+  DOUBLES_EQUAL(0.05, stops.stops.travel_m, 0.0);
+  DOUBLES_EQUAL(2e5, stops.stops.stiffness_n_per_m, 0.0);
+  // The core model the scene dispatches to configures with these parameters.
+  const SceneParams core = stops.core();
+  const bool configured = with_scene_model<double>(core, [&](auto& model) {
+    return configure_for_scene(model, core).ok();
+  });
+  CHECK_TRUE(configured);
 }
 
 // The effects a scene names choose the cheapest model that has them all.
@@ -76,7 +86,9 @@ TEST(SceneFile, EffectsChooseTheModel) {
 TEST(SceneFile, ContradictionsAndUnknownNamesAreErrorsWithLineAndKey) {
   STRCMP_CONTAINS("unknown effect 'viscous'", error_of("[scene]\neffects = [\"spring\", \"viscous\"]\n").c_str());
   STRCMP_CONTAINS("needs its 'spring'", error_of("[scene]\neffects = [\"damper\"]\n").c_str());
-  STRCMP_CONTAINS("'end_stops' is not modelled", error_of("[scene]\neffects = [\"spring\", \"end_stops\"]\n").c_str());
+  STRCMP_CONTAINS("needs an [end_stops] table", error_of("[scene]\neffects = [\"spring\", \"end_stops\"]\n").c_str());
+  STRCMP_CONTAINS("no 'end_stops' effect",
+                  error_of("[scene]\neffects = [\"spring\"]\n[end_stops]\ntravel_m = 0.05\n").c_str());
   STRCMP_CONTAINS("'static_friction' needs 'coulomb'",
                   error_of("[scene]\neffects = [\"spring\", \"static_friction\"]\n").c_str());
   // A parameter for an effect the scene leaves out.

@@ -3,14 +3,16 @@
 // (`simulate --scene FILE`; command-line flags override what the file says). See
 // docs/scenes/*.toml for examples.
 //
-//   [scene]   name, effects = ["spring", "damper", "coulomb", "static_friction", "stribeck"],
+//   [scene]   name, effects = ["spring", "damper", "coulomb", "static_friction", "stribeck",
+//             "end_stops"],
 //             model (optional: derived from the effects), integrator, sample_rate_hz
 //   [seat]    mass_kg, stiffness_n_per_m, damping_ns_per_m, kinetic_friction_n,
 //             static_friction_n, stribeck_velocity_m_per_s, smoothing, smoothing_constant_s_per_m
+//   [end_stops] travel_m, stiffness_n_per_m, damping_ns_per_m (needed with "end_stops")
 //   [can]     input_id, output_id (11-bit identifiers)
 //
-// Strict: an unknown table or key, a wrong type, a parameter of an effect the scene leaves out,
-// or an effect the core cannot model ("end_stops", for now) is an error naming file, line and key.
+// Strict: an unknown table or key, a wrong type, or a parameter of an effect the scene leaves out
+// is an error naming file, line and key.
 #pragma once
 
 #include <cstdint>
@@ -18,17 +20,9 @@
 #include <string>
 
 #include "stickslip/core/params.hpp"
+#include "stickslip/models/scene.hpp"
 
 namespace stickslip::host {
-
-enum SceneEffect : unsigned {
-  kSpring = 1u << 0,
-  kDamper = 1u << 1,
-  kCoulomb = 1u << 2,          // kinetic (sliding) friction F_fk
-  kStaticFriction = 1u << 3,   // sticking up to F_fs >= F_fk
-  kStribeck = 1u << 4,         // velocity-weakening between F_fs and F_fk
-  kEndStops = 1u << 5,         // stroke limit (not modelled by the core yet: refused)
-};
 
 struct SceneCanIds {
   std::optional<std::uint32_t> input_id, output_id;
@@ -36,17 +30,16 @@ struct SceneCanIds {
 
 struct Scene {
   std::string name;
-  unsigned effects = 0;             // SceneEffect bits
+  unsigned effects = 0;             // SceneEffect bits (models/scene.hpp)
   OscillatorParams params;          // the seat; dt_s from sample_rate_hz when given
+  EndStopParams stops;              // [end_stops], when effects has kEndStops
   std::optional<double> sample_rate_hz;
   bool model_given = false;         // [scene] model was in the file (else derived from effects)
   bool integrator_given = false;
   SceneCanIds can;
-};
 
-// The model a set of effects needs: linear (no friction), signum (Coulomb), stick-slip
-// (Coulomb + static friction), stribeck (+ Stribeck).
-FrictionModel model_for_effects(unsigned effects) noexcept;
+  SceneParams core() const { return {effects, params, stops}; }
+};
 
 // Reads and checks a scene file; throws HostError "FILE:LINE:COL: ..." on any problem.
 Scene read_scene_file(const std::string& path);

@@ -111,6 +111,7 @@ class EndStopOscillator {
     }
     contacts_ = 0;
     event_budget_exhausted_ = 0;
+    acceleration_ = stuck() ? T(0) : seat_acceleration(x_, v_) - a_u0;
   }
 
   StepOutput<T> step(T a_u_next) noexcept {
@@ -130,20 +131,28 @@ class EndStopOscillator {
       }
     } else {
       // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
-      T x = x_, v = v_;
-      advance(x, v, contact_, direction_, 0, kTicks, in);
-      if (!event_between(x_, v_, x, v, in.a0, in.a1)) {
+      const T offset = inv_mass_ * (kinetic_n_ * direction_ - stop_stiffness_ * travel_ * T(contact_));
+      const StepMap<T>& m = maps_[contact_ != 0 ? 1 : 0][0];
+      const T g0 = -(in.a0 + offset), g1 = -(in.a1 + offset);
+      const T x = (m.xx * x_ + m.xv * v_) + (m.gx0 * g0 + m.gx1 * g1);
+      const T v = (m.vx * x_ + m.vv * v_) + (m.gv0 * g0 + m.gv1 * g1);
+      const T a_x = seat_acceleration(x, v);
+      // v_r' = a_x - a_u: the relative acceleration at both ends, the start's kept from before.
+      if (!event_between(x_, v_, acceleration_, x, v, a_x - in.a1)) {
         x_ = x;
         v_ = v;
+        acceleration_ = a_x - in.a1;
         a_prev_ = a_u_next;
         out.contact = static_cast<std::int8_t>(contact_);
-        return output(in.a1, T(0), 0);
+        return slip_output(a_x);
       }
     }
     events = search(in, stuck_ticks, out);
     a_prev_ = a_u_next;
     out.contact = static_cast<std::int8_t>(contact_);
-    return output(in.a1, stuck_ticks * tick_fraction_, events);
+    const StepOutput<T> result = output(in.a1, stuck_ticks * tick_fraction_, events);
+    acceleration_ = result.stuck ? T(0) : result.a_x_m_per_s2 - in.a1;
+    return result;
   }
 
   T x_r() const noexcept { return x_; }
@@ -202,26 +211,43 @@ class EndStopOscillator {
     }
   }
 
-  // Acceleration of v_r in the current mode at state (x, v) and input a.
-  T relative_acceleration(T x, T v, T a) const noexcept {
+  // The seat's absolute acceleration at (x, v) while slipping in the current direction (or free):
+  // -(k x + b v + F_stop + F_f) / m.
+  T seat_acceleration(T x, T v) const noexcept {
     const int c = region(x);
     const T stop = c == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(c)) + stop_damping_ * v;
-    return -(inv_mass_ * (stiffness_ * x + damping_ * v + stop + kinetic_n_ * direction_) + a);
+    return -(inv_mass_ * (stiffness_ * x + damping_ * v + stop + kinetic_n_ * direction_));
+  }
+  StepOutput<T> slip_output(T a_x) const noexcept {
+    StepOutput<T> o{};
+    o.x_r_m = x_;
+    o.v_r_m_per_s = v_;
+    o.a_x_m_per_s2 = a_x;
+    o.friction_n = kinetic_n_ * direction_;
+    o.stuck_time_s = T(0);
+    o.stuck_fraction = T(0);
+    o.stuck = false;
+    o.events = 0;
+    return o;
   }
 
   // Whether a step from (x0, v0) to (x1, v1) in the current mode may contain an event: a region
   // change, v_r reaching 0 against the slip direction, or v_r dipping towards 0 and back (a
   // possible double crossing, for which the search scans the step), and for the frictionless seat
   // a turn of v_r (its x_r may have touched a stop in between).
-  bool event_between(T x0, T v0, T x1, T v1, T a0, T a1) const noexcept {
+  bool event_between(T x0, T v0, T acc0, T x1, T v1, T acc1) const noexcept {
     if (region(x1) != contact_) return true;
     const T d = direction_;
-    const T acc0 = relative_acceleration(x0, v0, a0), acc1 = relative_acceleration(x1, v1, a1);
     if constexpr (kSticking) {
       if (v1 * d <= T(0)) return true;
       return (acc0 * d < T(0)) & (acc1 * d > T(0));
     } else {
-      return (v0 * v1 <= T(0)) | ((v0 * acc0 < T(0)) & (v1 * acc1 > T(0)));
+      // A turn of v_r matters only where the turning point could reach a stop: it lies within
+      // max|v_r| dt of the ends.
+      const bool turns = (v0 * v1 <= T(0)) | ((v0 * acc0 < T(0)) & (v1 * acc1 > T(0)));
+      const T reach = (S::abs(x0) > S::abs(x1) ? S::abs(x0) : S::abs(x1)) +
+                      (S::abs(v0) > S::abs(v1) ? S::abs(v0) : S::abs(v1)) * dt_s_;
+      return turns & ((contact_ != 0) | (reach > travel_));
     }
   }
 
@@ -356,6 +382,7 @@ class EndStopOscillator {
   T kinetic_n_{}, static_n_{};
   T dt_s_{}, tick_fraction_{};
   T x_{}, v_{}, a_prev_{}, direction_{};
+  T acceleration_{};  // v_r' at the current state (0 while stuck)
   int contact_ = 0;
   StopContacts<T> contacts_last_{};
   std::uint64_t contacts_ = 0;

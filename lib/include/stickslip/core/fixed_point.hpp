@@ -1,0 +1,313 @@
+// A saturating fixed-point scalar for MCUs without an FPU: the oscillator, the friction laws and
+// the integrators run with it from the same source as with float and double.
+//
+// Why Q23.40 on int64 and not Q-format on int32: the step multiplies coefficients that span 13
+// decades in SI units (the input's effect on x_r over 1 ms, dt^2/6 = 1.7e-7, up to the stiffness
+// 1.15e4 N/m) with one scalar type. A 32-bit word cannot hold both with useful precision, and the
+// template source must not know per-variable scales. 23 integer bits hold +-8.4e6 (forces, k, m,
+// 1/dt); 40 fraction bits resolve 9.1e-13 (x_r in metres, the map coefficients). configure()
+// checks both ends for the scene and refuses it, naming the quantity, where a value would not fit
+// (core/fixed_point_scaling.hpp).
+//
+// @par Scaling and overflow (every operation; a, b in Q23.40, raw values r_a, r_b in int64)
+// - Range: the raw value is kept in [-(2^63 - 1), 2^63 - 1], symmetric, so negation and abs never
+//   overflow. Any result outside that range saturates to the nearest end and sets the sticky
+//   saturation flag (fixed_point_saturated()), like the Q flag of the Arm APSR: never a silent
+//   wrap-around.
+// - a + b, a - b: exact in Q23.40; saturate on overflow.
+// - a * b: the exact 126-bit product (Q46.80, formed from four 32 x 32 -> 64-bit partial products,
+//   no __int128, so that host and Cortex-M compute the same bits), rounded to Q23.40 to nearest,
+//   ties away from zero (symmetric: (-a) * b == -(a * b)); saturate on overflow.
+// - a / b: no divide instruction. 1/b is formed from b's leading 32 bits (normalised by a count of
+//   leading zeros) with a linear seed 48/17 - 32/17 mu (relative error <= 1/17) and three
+//   Newton-Raphson steps r <- r (2 - mu r) in 64-bit integer arithmetic; the quotient is then the
+//   126-bit product a * r shifted into Q23.40, rounded to nearest (ties away from zero). Relative
+//   error of the quotient <= 2^-29 (b's truncation to 32 bits 2^-31, the reciprocal 2^-30; tested),
+//   plus the final rounding to 1 ulp. b == 0 saturates to +-max (0/0 gives 0) and sets the flag.
+//   Used only on the rare event path (in-step event instants) and by the rational friction law.
+// - Conversions: from double rounds to nearest (ties away from zero); from int/unsigned is exact;
+//   both saturate and flag out of range (in a constant expression an out-of-range literal does not
+//   compile). to_double is exact to double's 53 bits. Conversion to unsigned truncates toward
+//   zero, negative values give 0 and set the flag.
+// - Comparisons are exact.
+//
+// The flag is one per thread on a hosted build (thread_local) and one per core on bare metal; the
+// Oscillator takes it after each step (take_fixed_point_saturation()) and counts the steps in
+// which anything saturated, so a run reports saturation per oscillator.
+#pragma once
+
+#include <climits>
+#include <cstdint>
+
+#include "stickslip/core/scalar.hpp"
+
+namespace stickslip {
+
+namespace fixed_point_detail {
+
+static_assert((std::int64_t{-5} >> 1) == -3, "arithmetic right shift of negative values");
+
+#if defined(__arm__) && !defined(__linux__)
+inline bool saturated = false;  // bare metal: no threads, one flag per core
+#else
+inline thread_local bool saturated = false;
+#endif
+
+// Not constexpr on purpose: reaching it in a constant expression (an out-of-range literal) is a
+// compile error; at run time it sets the sticky flag.
+inline void flag_saturation() noexcept { saturated = true; }
+
+constexpr std::int64_t kMaxRaw = INT64_MAX;
+
+// 128-bit unsigned value as two 64-bit halves.
+struct Wide {
+  std::uint64_t hi;
+  std::uint64_t lo;
+};
+
+// Exact a * b for a, b < 2^64 from four 32 x 32 -> 64-bit products (what a Cortex-M0+ has).
+constexpr Wide multiply_wide(std::uint64_t a, std::uint64_t b) noexcept {
+  const std::uint64_t a0 = a & 0xffffffffu, a1 = a >> 32;
+  const std::uint64_t b0 = b & 0xffffffffu, b1 = b >> 32;
+  const std::uint64_t p00 = a0 * b0, p01 = a0 * b1, p10 = a1 * b0, p11 = a1 * b1;
+  const std::uint64_t mid = (p00 >> 32) + (p01 & 0xffffffffu) + (p10 & 0xffffffffu);
+  return {p11 + (p01 >> 32) + (p10 >> 32) + (mid >> 32), (mid << 32) | (p00 & 0xffffffffu)};
+}
+
+// round(w / 2^shift), ties away from zero (w is a magnitude), 0 < shift < 64; saturates at kMaxRaw.
+constexpr std::int64_t round_shift_magnitude(Wide w, int shift, bool& overflow) noexcept {
+  const std::uint64_t half = std::uint64_t{1} << (shift - 1);
+  const std::uint64_t lo = w.lo + half;
+  const std::uint64_t hi = w.hi + (lo < half ? 1u : 0u);
+  if ((hi >> shift) != 0u) {
+    overflow = true;
+    return kMaxRaw;
+  }
+  const std::uint64_t q = (hi << (64 - shift)) | (lo >> shift);
+  if (q > static_cast<std::uint64_t>(kMaxRaw)) {
+    overflow = true;
+    return kMaxRaw;
+  }
+  return static_cast<std::int64_t>(q);
+}
+
+constexpr std::uint64_t magnitude(std::int64_t raw) noexcept {
+  return raw < 0 ? static_cast<std::uint64_t>(-raw) : static_cast<std::uint64_t>(raw);
+}
+
+constexpr int count_leading_zeros(std::uint64_t value) noexcept {
+  int n = 0;
+  if ((value >> 32) == 0u) {
+    n += 32;
+    value <<= 32;
+  }
+  if ((value >> 48) == 0u) {
+    n += 16;
+    value <<= 16;
+  }
+  if ((value >> 56) == 0u) {
+    n += 8;
+    value <<= 8;
+  }
+  if ((value >> 60) == 0u) {
+    n += 4;
+    value <<= 4;
+  }
+  if ((value >> 62) == 0u) {
+    n += 2;
+    value <<= 2;
+  }
+  if ((value >> 63) == 0u) n += 1;
+  return n;
+}
+
+// r ~= 2^63 / m for m in [2^31, 2^32) (mu = m / 2^32 in [0.5, 1), r = 2^31 / mu in (2^31, 2^32]):
+// linear seed, three Newton-Raphson steps; relative error below 2^-30.
+constexpr std::uint64_t reciprocal_q31(std::uint64_t m) noexcept {
+  constexpr std::uint64_t kSeedOffset = 6063890299u;  // 48/17 * 2^31
+  constexpr std::uint64_t kSeedSlope = 4042593539u;   // 32/17 * 2^31
+  std::uint64_t r = kSeedOffset - ((kSeedSlope * m) >> 32);
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    // e = 2^63 (1 - mu r / 2^31), |e| < 2^62; r += r e / 2^63, with e's low 32 bits dropped.
+    const std::int64_t e = static_cast<std::int64_t>((std::uint64_t{1} << 63) - m * r);
+    const std::int64_t correction = (static_cast<std::int64_t>(r) * (e >> 32)) >> 31;
+    r = static_cast<std::uint64_t>(static_cast<std::int64_t>(r) + correction);
+  }
+  return r;
+}
+
+}  // namespace fixed_point_detail
+
+// Reads and clears the sticky saturation flag of this thread (this core on bare metal).
+inline bool take_fixed_point_saturation() noexcept {
+  const bool was = fixed_point_detail::saturated;
+  fixed_point_detail::saturated = false;
+  return was;
+}
+// Reads the flag without clearing it.
+inline bool fixed_point_saturated() noexcept { return fixed_point_detail::saturated; }
+
+template <int FractionBits>
+class FixedPoint {
+  static_assert(FractionBits > 0 && FractionBits < 62, "Q(63-F).F on int64");
+
+ public:
+  using Raw = std::int64_t;
+  static constexpr int kFractionBits = FractionBits;
+  static constexpr int kIntegerBits = 63 - FractionBits;
+  static constexpr double kScale = static_cast<double>(std::uint64_t{1} << FractionBits);
+  // Largest magnitude (2^kIntegerBits - 1 ulp) and resolution (1 ulp), as doubles.
+  static constexpr double max_value() noexcept {
+    return static_cast<double>(std::uint64_t{1} << kIntegerBits);
+  }
+  static constexpr double resolution() noexcept { return 1.0 / kScale; }
+
+  constexpr FixedPoint() noexcept = default;
+  constexpr explicit FixedPoint(int value) noexcept : raw_(from_integer(value)) {}
+  constexpr explicit FixedPoint(unsigned value) noexcept
+      : raw_(from_integer(static_cast<std::int64_t>(value))) {}
+  // Rounds to nearest, ties away from zero; saturates and flags out of range (NaN gives 0, flagged).
+  constexpr explicit FixedPoint(double value) noexcept : raw_(from_real(value)) {}
+
+  static constexpr FixedPoint from_raw(Raw raw) noexcept {
+    FixedPoint f;
+    f.raw_ = raw < -fixed_point_detail::kMaxRaw ? -fixed_point_detail::kMaxRaw : raw;
+    return f;
+  }
+  constexpr Raw raw() const noexcept { return raw_; }
+  constexpr double to_double() const noexcept { return static_cast<double>(raw_) / kScale; }
+  // Truncates toward zero; a negative value gives 0 (flagged).
+  constexpr explicit operator unsigned() const noexcept {
+    if (raw_ < 0) {
+      fixed_point_detail::flag_saturation();
+      return 0u;
+    }
+    const std::uint64_t whole = static_cast<std::uint64_t>(raw_) >> FractionBits;
+    if (whole > UINT_MAX) {
+      fixed_point_detail::flag_saturation();
+      return UINT_MAX;
+    }
+    return static_cast<unsigned>(whole);
+  }
+
+  friend constexpr FixedPoint operator+(FixedPoint a, FixedPoint b) noexcept {
+    return saturate_sum(a.raw_, b.raw_);
+  }
+  friend constexpr FixedPoint operator-(FixedPoint a, FixedPoint b) noexcept {
+    return saturate_sum(a.raw_, -b.raw_);
+  }
+  friend constexpr FixedPoint operator-(FixedPoint a) noexcept { return from_raw(-a.raw_); }
+  friend constexpr FixedPoint operator*(FixedPoint a, FixedPoint b) noexcept {
+    using namespace fixed_point_detail;
+    bool overflow = false;
+    const Raw q = round_shift_magnitude(multiply_wide(magnitude(a.raw_), magnitude(b.raw_)),
+                                        FractionBits, overflow);
+    if (overflow) flag_saturation();
+    return from_raw((a.raw_ < 0) != (b.raw_ < 0) ? -q : q);
+  }
+  friend constexpr FixedPoint operator/(FixedPoint a, FixedPoint b) noexcept {
+    using namespace fixed_point_detail;
+    const bool negative = (a.raw_ < 0) != (b.raw_ < 0);
+    if (b.raw_ == 0) {
+      if (a.raw_ == 0) {
+        flag_saturation();
+        return FixedPoint{};
+      }
+      flag_saturation();
+      return from_raw(a.raw_ < 0 ? -kMaxRaw : kMaxRaw);
+    }
+    const std::uint64_t ua = magnitude(a.raw_), ub = magnitude(b.raw_);
+    const int zeros = count_leading_zeros(ub);  // >= 1
+    const std::uint64_t m = (ub << zeros) >> 32;  // b's leading 32 bits, in [2^31, 2^32)
+    const std::uint64_t r = reciprocal_q31(m);    // 2^63 / m
+    // b ~= m 2^(32 - zeros), so a / b * 2^F ~= ua r 2^(zeros - 95 + F).
+    const Wide product = multiply_wide(ua, r);
+    const int shift = 95 - FractionBits - zeros;
+    bool overflow = false;
+    Raw q = 0;
+    if (shift > 0) {
+      q = round_shift_magnitude(product, shift, overflow);
+    } else {
+      // Left shift by -shift (at most 62 - F): the quotient is >= 2^(62 - F) ulp in magnitude.
+      const int left = -shift;
+      const bool fits = product.hi == 0u && (left == 0 || (product.lo >> (63 - left)) == 0u);
+      overflow = !fits;
+      q = fits ? static_cast<Raw>(product.lo << left) : kMaxRaw;
+    }
+    if (overflow) flag_saturation();
+    return from_raw(negative ? -q : q);
+  }
+  constexpr FixedPoint& operator+=(FixedPoint b) noexcept { return *this = *this + b; }
+  constexpr FixedPoint& operator-=(FixedPoint b) noexcept { return *this = *this - b; }
+  constexpr FixedPoint& operator*=(FixedPoint b) noexcept { return *this = *this * b; }
+
+  friend constexpr bool operator==(FixedPoint a, FixedPoint b) noexcept { return a.raw_ == b.raw_; }
+  friend constexpr bool operator!=(FixedPoint a, FixedPoint b) noexcept { return a.raw_ != b.raw_; }
+  friend constexpr bool operator<(FixedPoint a, FixedPoint b) noexcept { return a.raw_ < b.raw_; }
+  friend constexpr bool operator>(FixedPoint a, FixedPoint b) noexcept { return a.raw_ > b.raw_; }
+  friend constexpr bool operator<=(FixedPoint a, FixedPoint b) noexcept { return a.raw_ <= b.raw_; }
+  friend constexpr bool operator>=(FixedPoint a, FixedPoint b) noexcept { return a.raw_ >= b.raw_; }
+
+ private:
+  static constexpr Raw from_integer(std::int64_t value) noexcept {
+    constexpr std::int64_t limit = std::int64_t{1} << kIntegerBits;
+    if (value >= limit || value <= -limit) {
+      fixed_point_detail::flag_saturation();
+      return value < 0 ? -fixed_point_detail::kMaxRaw : fixed_point_detail::kMaxRaw;
+    }
+    return value * (std::int64_t{1} << FractionBits);
+  }
+  static constexpr Raw from_real(double value) noexcept {
+    const double scaled = value * kScale;
+    constexpr double kLimit = 9223372036854775808.0;  // 2^63
+    if (!(scaled < kLimit && scaled > -kLimit)) {
+      fixed_point_detail::flag_saturation();
+      if (!(scaled == scaled)) return 0;  // NaN
+      return scaled < 0.0 ? -fixed_point_detail::kMaxRaw : fixed_point_detail::kMaxRaw;
+    }
+    const double rounded = scaled < 0.0 ? scaled - 0.5 : scaled + 0.5;
+    // (Near 2^63 the + 0.5 rounds back into range.)
+    if (!(rounded < kLimit && rounded > -kLimit)) {
+      fixed_point_detail::flag_saturation();
+      return rounded < 0.0 ? -fixed_point_detail::kMaxRaw : fixed_point_detail::kMaxRaw;
+    }
+    return static_cast<Raw>(rounded);
+  }
+  static constexpr FixedPoint saturate_sum(Raw a, Raw b) noexcept {
+    // Both in the symmetric range, so the sum's magnitude is < 2^64: test before adding.
+    if (b > 0 && a > fixed_point_detail::kMaxRaw - b) {
+      fixed_point_detail::flag_saturation();
+      return from_raw(fixed_point_detail::kMaxRaw);
+    }
+    if (b < 0 && a < -fixed_point_detail::kMaxRaw - b) {
+      fixed_point_detail::flag_saturation();
+      return from_raw(-fixed_point_detail::kMaxRaw);
+    }
+    return from_raw(a + b);
+  }
+
+  Raw raw_ = 0;
+};
+
+// The fixed-point scalar of the library: Q23.40 (see above).
+using Fixed = FixedPoint<40>;
+
+template <int F>
+struct ScalarTraits<FixedPoint<F>> {
+  using T = FixedPoint<F>;
+  // The event search bisects on the dyadic grid and interpolates inside the last tick (the
+  // integer path: no Taylor polynomials with coefficients below the resolution).
+  static constexpr bool kTaylorEventSearch = false;
+  static constexpr bool kTracksSaturation = true;
+  // Reads and clears the sticky saturation flag (the oscillator, after each step).
+  static bool take_saturation() noexcept { return take_fixed_point_saturation(); }
+  static T from_double(double value) noexcept { return T(value); }
+  static constexpr double to_double(T value) noexcept { return value.to_double(); }
+  static constexpr bool is_finite(T /*value*/) noexcept { return true; }
+  static constexpr T abs(T value) noexcept { return value < T() ? -value : value; }
+  static constexpr T epsilon() noexcept { return T::from_raw(1); }
+  // No transcendental functions: the atan, tanh and erf laws and Stribeck are not offered in
+  // fixed point (configure() refuses them).
+};
+
+}  // namespace stickslip

@@ -344,7 +344,9 @@ class Oscillator {
     const unsigned size = ticks_per_step_ >> level;
     const T a_u0 = in.at(T(tick) * inv_ticks_);
     const T a_u1 = in.at(T(tick + size) * inv_ticks_);
-    if (stage_friction_) {
+    // (Known false at compile time for a law without velocity dependence: no RK4 code in its
+    // step.)
+    if (Law::velocity_dependent && stage_friction_) {
       advance_rk4(x, v, level, a_u0, a_u1, force);
     } else {
       // Friction held over the block at its value at the block start.

@@ -1,5 +1,7 @@
 #include "node.hpp"
 
+#include <cstring>
+
 #include "board.hpp"
 #include "stickslip/core/fixed_point.hpp"
 #include "stickslip/models/oscillator.hpp"
@@ -13,7 +15,8 @@ using Scalar = float;  // Cortex-M4F: single-precision FPU
 #endif
 using Seat = stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>;
 
-Seat seat;  // the model's coefficients and state, in .bss (no heap)
+Seat seat;  // the model's coefficients and state, statically allocated (no heap)
+stickslip::StepOutput<Scalar> last_output{};
 
 constexpr Scalar kPerMilli = Scalar(0.001);  // mm/s^2 -> m/s^2
 constexpr Scalar kThousand = Scalar(1000);
@@ -54,8 +57,9 @@ extern "C" void stickslip_node_on_frame(const stickslip::can::Frame* frame) {
       frame->data[0] | static_cast<unsigned>(frame->data[1]) << 8));
   const Scalar a_u = Scalar(static_cast<int>(raw)) * kPerMilli;
   const stickslip::StepOutput<Scalar> out = seat.step(a_u);
+  last_output = out;
 
-  stickslip::can::Frame reply;
+  static stickslip::can::Frame reply;  // statically allocated: not on the interrupt's stack
   reply.id = kNodeOutputId;
   reply.length = 5;
   const auto a_x = static_cast<std::uint16_t>(to_milli(out.a_x_m_per_s2));
@@ -65,6 +69,33 @@ extern "C" void stickslip_node_on_frame(const stickslip::can::Frame* frame) {
   reply.data[3] = out.events;
   reply.data[4] = seat.saturated_steps() != 0 ? 1u : 0u;
   board_can_send(&reply);
+}
+
+namespace {
+
+std::uint64_t bits_of(Scalar v) {
+#if defined(STICKSLIP_FIRMWARE_FIXED)
+  return static_cast<std::uint64_t>(v.raw());
+#else
+  std::uint32_t bits = 0;
+  std::memcpy(&bits, &v, sizeof bits);
+  return bits;
+#endif
+}
+
+}  // namespace
+
+extern "C" void stickslip_node_record(std::uint8_t* out) {
+  const Scalar fields[6] = {last_output.x_r_m,      last_output.v_r_m_per_s,
+                            last_output.a_x_m_per_s2, last_output.friction_n,
+                            last_output.stuck_time_s, last_output.stuck_fraction};
+  for (const Scalar field : fields) {
+    const std::uint64_t bits = bits_of(field);
+    for (int byte = 0; byte < 8; ++byte) *out++ = static_cast<std::uint8_t>(bits >> (8 * byte));
+  }
+  *out++ = last_output.stuck ? 1u : 0u;
+  *out++ = last_output.events;
+  *out = seat.saturated_steps() != 0 ? 1u : 0u;
 }
 
 // The CAN controller's receive interrupt (IRQ 0 in startup.cpp's vector table).

@@ -2,6 +2,7 @@
 // output frame out. Everything statically allocated; no heap, no exceptions.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "stickslip/can/frame.hpp"
@@ -22,4 +23,9 @@ int stickslip_node_start();
 // The CAN receive callback: frames other than kNodeInputId with 2+ bytes are ignored. Calls
 // board_can_send() with the output frame.
 void stickslip_node_on_frame(const stickslip::can::Frame* frame);
+// The outputs of the last step, bit for bit, for comparing targets (kNodeRecordBytes bytes, little
+// endian): x_r, v_r, a_x, f_f, stuck time, stuck fraction as 8 bytes each (fixed point: the raw
+// int64; float: the IEEE bits, zero-extended), then stuck, events, saturated so far.
+void stickslip_node_record(std::uint8_t* out);
 }
+inline constexpr std::size_t kNodeRecordBytes = 6 * 8 + 3;

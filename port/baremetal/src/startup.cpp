@@ -38,6 +38,11 @@ __attribute__((section(".vectors"), used)) const VectorEntry vector_table[17] = 
     SysTick_Handler,   CAN0_IRQHandler};
 
 extern "C" void Reset_Handler() {
+#if defined(__ARM_FP)
+  // Cortex-M4F: full access to the FPU (CPACR CP10, CP11) before any floating-point instruction.
+  *reinterpret_cast<volatile std::uint32_t*>(0xE000ED88u) |= 0xFu << 20;
+  __asm volatile("dsb\n\tisb" ::: "memory");
+#endif
   for (std::uint32_t *from = &__data_load, *to = &__data_start; to < &__data_end;) *to++ = *from++;
   for (std::uint32_t* to = &__bss_start; to < &__bss_end;) *to++ = 0;
   for (void (**init)() = __init_array_start; init < __init_array_end; ++init) (*init)();

@@ -65,17 +65,52 @@ struct Wide {
   std::uint64_t lo;
 };
 
-// Exact a * b for a, b < 2^64 from four 32 x 32 -> 64-bit products (what a Cortex-M0+ has).
-constexpr Wide multiply_wide(std::uint64_t a, std::uint64_t b) noexcept {
-  const std::uint64_t a0 = a & 0xffffffffu, a1 = a >> 32;
-  const std::uint64_t b0 = b & 0xffffffffu, b1 = b >> 32;
-  const std::uint64_t p00 = a0 * b0, p01 = a0 * b1, p10 = a1 * b0, p11 = a1 * b1;
+// Size-optimised builds (-Os, the MCU presets) keep the arithmetic kernels out of line: they
+// take and return plain int64 (in registers under the Arm procedure call standard, where a class
+// would be returned through memory), and each is then in flash once.
+// Their parts, and the operators around them, are always inlined (a call per partial product
+// would cost more than the product).
+#if defined(__OPTIMIZE_SIZE__) && (defined(__GNUC__) || defined(__clang__))
+#define STICKSLIP_FIXED_KERNEL __attribute__((noinline))
+#define STICKSLIP_FIXED_INLINE __attribute__((always_inline)) inline
+#else
+#define STICKSLIP_FIXED_KERNEL
+#define STICKSLIP_FIXED_INLINE inline
+#endif
+
+// Exact a * b for 32-bit a, b. ARMv6-M (Cortex-M0/M0+) has only a 32 x 32 -> 32-bit multiply,
+// and the compiler would call its 64 x 64 -> 64-bit library routine: four 16 x 16 -> 32-bit
+// products instead, inline. Elsewhere (UMULL, x86-64) the compiler's product is one instruction.
+STICKSLIP_FIXED_INLINE constexpr std::uint64_t multiply_32x32(std::uint32_t a, std::uint32_t b) noexcept {
+#if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
+  const std::uint32_t a0 = a & 0xffffu, a1 = a >> 16, b0 = b & 0xffffu, b1 = b >> 16;
+  const std::uint32_t p00 = a0 * b0, p01 = a0 * b1, p10 = a1 * b0, p11 = a1 * b1;
+  const std::uint32_t mid = (p00 >> 16) + (p01 & 0xffffu) + (p10 & 0xffffu);
+  const std::uint32_t lo = (mid << 16) | (p00 & 0xffffu);
+  const std::uint32_t hi = p11 + (p01 >> 16) + (p10 >> 16) + (mid >> 16);
+  return (std::uint64_t{hi} << 32) | lo;
+#else
+  return std::uint64_t{a} * b;
+#endif
+}
+
+// Exact a * b for a, b < 2^64 from four 32 x 32 -> 64-bit products (no __int128: the host and a
+// 32-bit MCU compute the same bits the same way).
+STICKSLIP_FIXED_INLINE constexpr Wide multiply_wide(std::uint64_t a, std::uint64_t b) noexcept {
+  const auto a0 = static_cast<std::uint32_t>(a), a1 = static_cast<std::uint32_t>(a >> 32);
+  const auto b0 = static_cast<std::uint32_t>(b), b1 = static_cast<std::uint32_t>(b >> 32);
+  // Many operands fit in 32 bits (coefficients such as dt, dt^2/6; anything below 2^-8 in
+  // Q23.40): their high partial products are zero and skipped.
+  const std::uint64_t p00 = multiply_32x32(a0, b0);
+  const std::uint64_t p01 = b1 != 0u ? multiply_32x32(a0, b1) : 0u;
+  const std::uint64_t p10 = a1 != 0u ? multiply_32x32(a1, b0) : 0u;
+  const std::uint64_t p11 = (a1 != 0u && b1 != 0u) ? multiply_32x32(a1, b1) : 0u;
   const std::uint64_t mid = (p00 >> 32) + (p01 & 0xffffffffu) + (p10 & 0xffffffffu);
   return {p11 + (p01 >> 32) + (p10 >> 32) + (mid >> 32), (mid << 32) | (p00 & 0xffffffffu)};
 }
 
 // round(w / 2^shift), ties away from zero (w is a magnitude), 0 < shift < 64; saturates at kMaxRaw.
-constexpr std::int64_t round_shift_magnitude(Wide w, int shift, bool& overflow) noexcept {
+STICKSLIP_FIXED_INLINE constexpr std::int64_t round_shift_magnitude(Wide w, int shift, bool& overflow) noexcept {
   const std::uint64_t half = std::uint64_t{1} << (shift - 1);
   const std::uint64_t lo = w.lo + half;
   const std::uint64_t hi = w.hi + (lo < half ? 1u : 0u);
@@ -91,7 +126,7 @@ constexpr std::int64_t round_shift_magnitude(Wide w, int shift, bool& overflow) 
   return static_cast<std::int64_t>(q);
 }
 
-constexpr std::uint64_t magnitude(std::int64_t raw) noexcept {
+STICKSLIP_FIXED_INLINE constexpr std::uint64_t magnitude(std::int64_t raw) noexcept {
   return raw < 0 ? static_cast<std::uint64_t>(-raw) : static_cast<std::uint64_t>(raw);
 }
 
@@ -134,6 +169,67 @@ constexpr std::uint64_t reciprocal_q31(std::uint64_t m) noexcept {
     r = static_cast<std::uint64_t>(static_cast<std::int64_t>(r) + correction);
   }
   return r;
+}
+
+// Saturating a + b for a, b in the symmetric range.
+STICKSLIP_FIXED_KERNEL constexpr std::int64_t add_raw(std::int64_t a, std::int64_t b) noexcept {
+  // The sum's magnitude is < 2^64: test before adding.
+  if (b > 0 && a > kMaxRaw - b) {
+    flag_saturation();
+    return kMaxRaw;
+  }
+  if (b < 0 && a < -kMaxRaw - b) {
+    flag_saturation();
+    return -kMaxRaw;
+  }
+  return a + b;
+}
+
+// round(a b / 2^F), ties away from zero, saturated.
+template <int F>
+STICKSLIP_FIXED_KERNEL constexpr std::int64_t multiply_raw(std::int64_t a, std::int64_t b) noexcept {
+  // Exact shortcuts (the same result as the general path): the step multiplies by a direction
+  // +-1 and by zero state components often.
+  constexpr std::int64_t one = std::int64_t{1} << F;
+  if (a == 0 || b == 0) return 0;
+  if (b == one) return a;
+  if (b == -one) return -a;
+  if (a == one) return b;
+  if (a == -one) return -b;
+  bool overflow = false;
+  const std::int64_t q = round_shift_magnitude(multiply_wide(magnitude(a), magnitude(b)), F, overflow);
+  if (overflow) flag_saturation();
+  return (a < 0) != (b < 0) ? -q : q;
+}
+
+// a 2^F / b through the reciprocal of b's leading 32 bits (see the file comment), saturated.
+template <int F>
+STICKSLIP_FIXED_KERNEL constexpr std::int64_t divide_raw(std::int64_t a, std::int64_t b) noexcept {
+  if (b == 0) {
+    flag_saturation();
+    return a == 0 ? 0 : (a < 0 ? -kMaxRaw : kMaxRaw);
+  }
+  const bool negative = (a < 0) != (b < 0);
+  const std::uint64_t ua = magnitude(a), ub = magnitude(b);
+  const int zeros = count_leading_zeros(ub);     // >= 1
+  const std::uint64_t m = (ub << zeros) >> 32;   // b's leading 32 bits, in [2^31, 2^32)
+  const std::uint64_t r = reciprocal_q31(m);     // 2^63 / m
+  // b ~= m 2^(32 - zeros), so a / b * 2^F ~= ua r 2^(zeros - 95 + F).
+  const Wide product = multiply_wide(ua, r);
+  const int shift = 95 - F - zeros;
+  bool overflow = false;
+  std::int64_t q = 0;
+  if (shift > 0) {
+    q = round_shift_magnitude(product, shift, overflow);
+  } else {
+    // Left shift by -shift (at most 62 - F): the quotient is >= 2^(62 - F) ulp in magnitude.
+    const int left = -shift;
+    const bool fits = product.hi == 0u && (left == 0 || (product.lo >> (63 - left)) == 0u);
+    overflow = !fits;
+    q = fits ? static_cast<std::int64_t>(product.lo << left) : kMaxRaw;
+  }
+  if (overflow) flag_saturation();
+  return negative ? -q : q;
 }
 
 }  // namespace fixed_point_detail
@@ -190,52 +286,20 @@ class FixedPoint {
     return static_cast<unsigned>(whole);
   }
 
-  friend constexpr FixedPoint operator+(FixedPoint a, FixedPoint b) noexcept {
-    return saturate_sum(a.raw_, b.raw_);
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator+(FixedPoint a, FixedPoint b) noexcept {
+    return exactly(fixed_point_detail::add_raw(a.raw_, b.raw_));
   }
-  friend constexpr FixedPoint operator-(FixedPoint a, FixedPoint b) noexcept {
-    return saturate_sum(a.raw_, -b.raw_);
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator-(FixedPoint a, FixedPoint b) noexcept {
+    return exactly(fixed_point_detail::add_raw(a.raw_, -b.raw_));
   }
-  friend constexpr FixedPoint operator-(FixedPoint a) noexcept { return from_raw(-a.raw_); }
-  friend constexpr FixedPoint operator*(FixedPoint a, FixedPoint b) noexcept {
-    using namespace fixed_point_detail;
-    bool overflow = false;
-    const Raw q = round_shift_magnitude(multiply_wide(magnitude(a.raw_), magnitude(b.raw_)),
-                                        FractionBits, overflow);
-    if (overflow) flag_saturation();
-    return from_raw((a.raw_ < 0) != (b.raw_ < 0) ? -q : q);
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator-(FixedPoint a) noexcept {
+    return exactly(-a.raw_);
   }
-  friend constexpr FixedPoint operator/(FixedPoint a, FixedPoint b) noexcept {
-    using namespace fixed_point_detail;
-    const bool negative = (a.raw_ < 0) != (b.raw_ < 0);
-    if (b.raw_ == 0) {
-      if (a.raw_ == 0) {
-        flag_saturation();
-        return FixedPoint{};
-      }
-      flag_saturation();
-      return from_raw(a.raw_ < 0 ? -kMaxRaw : kMaxRaw);
-    }
-    const std::uint64_t ua = magnitude(a.raw_), ub = magnitude(b.raw_);
-    const int zeros = count_leading_zeros(ub);  // >= 1
-    const std::uint64_t m = (ub << zeros) >> 32;  // b's leading 32 bits, in [2^31, 2^32)
-    const std::uint64_t r = reciprocal_q31(m);    // 2^63 / m
-    // b ~= m 2^(32 - zeros), so a / b * 2^F ~= ua r 2^(zeros - 95 + F).
-    const Wide product = multiply_wide(ua, r);
-    const int shift = 95 - FractionBits - zeros;
-    bool overflow = false;
-    Raw q = 0;
-    if (shift > 0) {
-      q = round_shift_magnitude(product, shift, overflow);
-    } else {
-      // Left shift by -shift (at most 62 - F): the quotient is >= 2^(62 - F) ulp in magnitude.
-      const int left = -shift;
-      const bool fits = product.hi == 0u && (left == 0 || (product.lo >> (63 - left)) == 0u);
-      overflow = !fits;
-      q = fits ? static_cast<Raw>(product.lo << left) : kMaxRaw;
-    }
-    if (overflow) flag_saturation();
-    return from_raw(negative ? -q : q);
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator*(FixedPoint a, FixedPoint b) noexcept {
+    return exactly(fixed_point_detail::multiply_raw<FractionBits>(a.raw_, b.raw_));
+  }
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator/(FixedPoint a, FixedPoint b) noexcept {
+    return exactly(fixed_point_detail::divide_raw<FractionBits>(a.raw_, b.raw_));
   }
   constexpr FixedPoint& operator+=(FixedPoint b) noexcept { return *this = *this + b; }
   constexpr FixedPoint& operator-=(FixedPoint b) noexcept { return *this = *this - b; }
@@ -249,6 +313,12 @@ class FixedPoint {
   friend constexpr bool operator>=(FixedPoint a, FixedPoint b) noexcept { return a.raw_ >= b.raw_; }
 
  private:
+  // A raw value already in the symmetric range (what the kernels return).
+  static constexpr FixedPoint exactly(Raw raw) noexcept {
+    FixedPoint f;
+    f.raw_ = raw;
+    return f;
+  }
   static constexpr Raw from_integer(std::int64_t value) noexcept {
     constexpr std::int64_t limit = std::int64_t{1} << kIntegerBits;
     if (value >= limit || value <= -limit) {
@@ -273,19 +343,6 @@ class FixedPoint {
     }
     return static_cast<Raw>(rounded);
   }
-  static constexpr FixedPoint saturate_sum(Raw a, Raw b) noexcept {
-    // Both in the symmetric range, so the sum's magnitude is < 2^64: test before adding.
-    if (b > 0 && a > fixed_point_detail::kMaxRaw - b) {
-      fixed_point_detail::flag_saturation();
-      return from_raw(fixed_point_detail::kMaxRaw);
-    }
-    if (b < 0 && a < -fixed_point_detail::kMaxRaw - b) {
-      fixed_point_detail::flag_saturation();
-      return from_raw(-fixed_point_detail::kMaxRaw);
-    }
-    return from_raw(a + b);
-  }
-
   Raw raw_ = 0;
 };
 

@@ -12,7 +12,7 @@
 #include "replay.hpp"
 
 extern "C" void CAN0_IRQHandler();
-extern "C" std::uint32_t __bss_end, __stack_top;
+extern "C" std::uint32_t __bss_end, __stack_top;  // linker script
 
 namespace {
 
@@ -81,6 +81,7 @@ constexpr std::uint32_t kTicksMask = 0xFFFFFFu;
 constexpr std::uint64_t kInstructionsPerTick = 40;  // 25 MHz processor clock, 1 ns per instruction
 
 std::uint64_t frames = 0, ticks = 0, worst_ticks = 0;
+std::uintptr_t callback_stack_base = 0;  // an address in board_idle's frame, above the callback's
 constexpr std::uint32_t kStackPaint = 0x5AC3A55Au;
 
 }  // namespace
@@ -88,7 +89,7 @@ constexpr std::uint32_t kStackPaint = 0x5AC3A55Au;
 extern "C" void board_start() {
   // Paint the free stack (below this frame) to measure its high-water mark at the end.
   std::uint32_t here = 0;
-  for (std::uint32_t* word = &__bss_end; word + 64 < &here; ++word) *word = kStackPaint;
+  for (std::uint32_t* word = &__bss_end; word + 16 < &here; ++word) *word = kStackPaint;
   input_file = open_file("stickslip-input.bin", 1);    // "rb"
   output_file = open_file("stickslip-output.bin", 5);  // "wb"
   if (input_file < 0 || output_file < 0) {
@@ -112,6 +113,8 @@ extern "C" void board_can_send(const stickslip::can::Frame* /*frame*/) {}
 extern "C" void board_idle() {
   if (replay.next_frame(&pending)) {
     has_pending = true;
+    volatile std::uint32_t marker = 0;
+    callback_stack_base = reinterpret_cast<std::uintptr_t>(&marker);
     const std::uint32_t before = kSysTick[2];
     CAN0_IRQHandler();  // the receive interrupt, as the controller would raise it
     const std::uint32_t after = kSysTick[2];
@@ -131,8 +134,10 @@ extern "C" void board_idle() {
   print_number(frames != 0 ? ticks * kInstructionsPerTick / frames : 0);
   print("\ninstructions_per_frame_max ");
   print_number(worst_ticks * kInstructionsPerTick);
-  print("\nstack_high_water_bytes ");
-  print_number(static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(&__stack_top) -
+  // The deepest stack below board_idle's frame: the receive interrupt, the step and what they
+  // call (board_idle's own locals above the marker excluded).
+  print("\ncallback_stack_bytes ");
+  print_number(static_cast<std::uint64_t>(callback_stack_base -
                                           reinterpret_cast<std::uintptr_t>(lowest)));
   print("\n");
   exit_with(true);

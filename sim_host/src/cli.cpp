@@ -81,6 +81,14 @@ void add_simulate(CLI::App& app, Options& o) {
   simulate->add_option("--scalar", o.scalar,
                        "double | float | fixed (Q23.40 fixed point: linear, signum, smooth rational, "
                        "stick-slip; euler, symplectic, exact)")->capture_default_str();
+  simulate
+      ->add_option("--input-range", p.input_range_m_per_s2,
+                   "fixed point: largest |a_u| its scaling must hold, m/s^2")
+      ->capture_default_str();
+  simulate
+      ->add_option("--displacement-range", p.displacement_range_m,
+                   "fixed point: largest |x_r| its scaling must hold, m")
+      ->capture_default_str();
   simulate->add_option("--x0", o.simulate.setup.x0_m, "initial x_r, m")->capture_default_str();
   simulate->add_option("--v0", o.simulate.setup.v0_m_per_s, "initial v_r, m/s")
       ->capture_default_str();

@@ -38,6 +38,8 @@ const char* option_for(const std::string& parameter) {
                {"smoothing_constant_s_per_m", "--smoothing-c"},
                {"model", "--model"},
                {"smoothing", "--smoothing"},
+               {"input_range_m_per_s2", "--input-range"},
+               {"displacement_range_m", "--displacement-range"},
                {"integrator", "--integrator"}};
   for (const auto& entry : table)
     if (parameter == entry.parameter) return entry.option;

@@ -235,6 +235,12 @@ TEST(SimulateCommand, FixedRefusesWhatFixedPointDoesNotOfferByName) {
   CHECK(stiff.status != 0);
   CHECK_TEXT(stiff.err.find("--stiffness: stiffness_n_per_m: the stiffness k") != std::string::npos,
              stiff.err.c_str());
+  const CliRun range = simulate({"--model", "stick-slip", "--ffk", "45", "--scalar", "fixed",
+                                 "--input-range", "1e5"});
+  CHECK(range.status != 0);
+  CHECK_TEXT(range.err.find("--input-range: input_range_m_per_s2: the input force m*a_u") !=
+                 std::string::npos,
+             range.err.c_str());
   CHECK_FALSE(stickslip::test::exists(dir.file("out.csv")));
 }
 

@@ -245,7 +245,8 @@ inline bool fixed_point_saturated() noexcept { return fixed_point_detail::satura
 
 template <int FractionBits>
 class FixedPoint {
-  static_assert(FractionBits > 0 && FractionBits < 62, "Q(63-F).F on int64");
+  // F >= 31 keeps the quotient's shift below 64 (divide_raw); F <= 61 leaves an integer bit.
+  static_assert(FractionBits >= 31 && FractionBits <= 61, "Q(63-F).F on int64 with 31 <= F <= 61");
 
  public:
   using Raw = std::int64_t;

@@ -6,7 +6,8 @@
 # STICKSLIP: the host `stickslip` command; REPLAY_DIR: holds stickslip_node_replay_fixed and
 # _float (host build); CROSS_ROOT: holds cortex-m0plus/ and cortex-m4f/ build trees; CSV: the
 # recording (default: 10 s of the lorry scene, generated). Prints, per target, the frames, whether
-# they are identical, and the instructions per frame (mean and max, counted by QEMU with
+# they are identical, and the instructions per frame (mean, percentiles as the upper edge of
+# their 100-instruction bucket, and max, counted by QEMU with
 # -icount shift=0) and the deepest stack the CAN receive interrupt reached (painted stack). Exit status 1 on any difference.
 set -euo pipefail
 
@@ -40,6 +41,9 @@ run_target() {  # preset machine scalar
   frames=$(awk '$1 == "frames" {print $2}' "$dir/qemu.txt")
   mean=$(awk '$1 == "instructions_per_frame_mean" {print $2}' "$dir/qemu.txt")
   max=$(awk '$1 == "instructions_per_frame_max" {print $2}' "$dir/qemu.txt")
+  p50=$(awk '$1 == "instructions_per_frame_p50" {print $2}' "$dir/qemu.txt")
+  p99=$(awk '$1 == "instructions_per_frame_p99" {print $2}' "$dir/qemu.txt")
+  p999=$(awk '$1 == "instructions_per_frame_p999" {print $2}' "$dir/qemu.txt")
   stack=$(awk '$1 == "callback_stack_bytes" {print $2}' "$dir/qemu.txt")
   if cmp -s "$dir/host.bin" "$dir/stickslip-output.bin"; then
     verdict=identical
@@ -47,7 +51,7 @@ run_target() {  # preset machine scalar
     verdict=DIFFERENT
     status=1
   fi
-  echo "$preset $machine $scalar frames=$frames $verdict instructions_per_frame_mean=$mean instructions_per_frame_max=$max callback_stack_bytes=$stack"
+  echo "$preset $machine $scalar frames=$frames $verdict instructions_per_frame_mean=$mean instructions_per_frame_p50=$p50 instructions_per_frame_p99=$p99 instructions_per_frame_p999=$p999 instructions_per_frame_max=$max callback_stack_bytes=$stack"
 }
 run_target cortex-m0plus mps2-an385 fixed
 run_target cortex-m4f mps2-an386 float

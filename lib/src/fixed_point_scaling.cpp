@@ -56,7 +56,8 @@ struct Checker {
 }  // namespace
 
 ConfigResult check_fixed_point_scene(const OscillatorParams& p, const DiscreteModel& model,
-                                     int integer_bits, int fraction_bits) noexcept {
+                                     int integer_bits, int fraction_bits,
+                                     int tick_level) noexcept {
   ConfigResult r;
   char format[16] = "Q";
   {
@@ -128,7 +129,8 @@ ConfigResult check_fixed_point_scene(const OscillatorParams& p, const DiscreteMo
         c.resolved("smoothing_constant_s_per_m", "c", p.smoothing_constant_s_per_m, "s/m"))) &&
       c.fits("dt_s", "1/dt", model.inv_dt, "1/s") &&
       c.resolved("dt_s", "dt", p.dt_s, "s") &&
-      c.resolved("dt_s", "the event tick dt/2^16", model.block_s[kEventLevels], "s") &&
+      (tick_level < 0 || tick_level > kEventLevels ||
+       c.resolved("dt_s", "the event tick dt/2^level", model.block_s[tick_level], "s")) &&
       // The whole-step map (the common path): every non-zero coefficient keeps its precision.
       c.resolved("dt_s", "the step map coefficient xv (v_r -> x_r)", model.maps[0].xv, "s") &&
       c.resolved("dt_s", "the step map coefficient vx (x_r -> v_r)", model.maps[0].vx, "1/s") &&

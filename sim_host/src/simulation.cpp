@@ -134,7 +134,7 @@ SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
     ConfigResult refused = discretise(setup.params, model);
     if (refused.ok()) {
       refused = check_fixed_point_scene(setup.params, model, Fixed::kIntegerBits,
-                                        Fixed::kFractionBits);
+                                        Fixed::kFractionBits, ScalarTraits<Fixed>::kEventTickLevel);
     }
     throw ConfigurationError(refused.message.c_str());
   }

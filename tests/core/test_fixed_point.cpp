@@ -283,7 +283,8 @@ TEST(FixedPointOscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuantity) {
       // (An Oscillator<Fixed, StribeckStickSlip> does not compile: no exp.)
       DiscreteModel model;
       CHECK(discretise(p, model).ok());
-      result = check_fixed_point_scene(p, model, Fixed::kIntegerBits, Fixed::kFractionBits);
+      result = check_fixed_point_scene(p, model, Fixed::kIntegerBits, Fixed::kFractionBits,
+                                       ScalarTraits<Fixed>::kEventTickLevel);
     } else {
       Oscillator<Fixed, CoulombStickSlip> seat;
       result = seat.configure(p);

@@ -81,6 +81,10 @@ constexpr std::uint32_t kTicksMask = 0xFFFFFFu;
 constexpr std::uint64_t kInstructionsPerTick = 40;  // 25 MHz processor clock, 1 ns per instruction
 
 std::uint64_t frames = 0, ticks = 0, worst_ticks = 0;
+// Frames by instructions, in buckets of 100 (the last one: 100 * (kBuckets - 1) and more), for
+// the percentiles.
+constexpr int kBuckets = 2001;
+std::uint32_t histogram[kBuckets] = {};
 std::uintptr_t callback_stack_base = 0;  // an address in board_idle's frame, above the callback's
 constexpr std::uint32_t kStackPaint = 0x5AC3A55Au;
 
@@ -121,6 +125,8 @@ extern "C" void board_idle() {
     const std::uint32_t elapsed = (before - after) & kTicksMask;  // counts down
     ticks += elapsed;
     if (elapsed > worst_ticks) worst_ticks = elapsed;
+    const std::uint64_t bucket = elapsed * kInstructionsPerTick / 100u;
+    ++histogram[bucket < kBuckets ? bucket : kBuckets - 1];
     ++frames;
     replay.record();
     return;
@@ -132,6 +138,17 @@ extern "C" void board_idle() {
   print_number(frames);
   print("\ninstructions_per_frame_mean ");
   print_number(frames != 0 ? ticks * kInstructionsPerTick / frames : 0);
+  // Upper edges of the buckets holding the 50th, 99th and 99.9th percentile.
+  const std::uint64_t ranks[3] = {frames / 2, frames - frames / 100, frames - frames / 1000};
+  const char* const names[3] = {"\ninstructions_per_frame_p50 ", "\ninstructions_per_frame_p99 ",
+                                "\ninstructions_per_frame_p999 "};
+  for (int i = 0; i < 3; ++i) {
+    std::uint64_t below = 0;
+    int bucket = 0;
+    while (bucket < kBuckets - 1 && below + histogram[bucket] < ranks[i]) below += histogram[bucket++];
+    print(names[i]);
+    print_number(100u * static_cast<std::uint64_t>(bucket + 1));
+  }
   print("\ninstructions_per_frame_max ");
   print_number(worst_ticks * kInstructionsPerTick);
   // The deepest stack below board_idle's frame: the receive interrupt, the step and what they

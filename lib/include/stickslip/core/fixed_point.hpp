@@ -356,6 +356,10 @@ struct ScalarTraits<FixedPoint<F>> {
   // The event search bisects on the dyadic grid and interpolates inside the last tick (the
   // integer path: no Taylor polynomials with coefficients below the resolution).
   static constexpr bool kTaylorEventSearch = false;
+  // Ticks of dt/2^10 (1 us at dt = 1 ms): on the 120 s scenes T_ax and p stay within 1e-10 of
+  // double, as with dt/2^16, while an event costs about 2/3 of the instructions (each bisection
+  // level is a full step map of 64-bit products).
+  static constexpr int kEventTickLevel = 10;
   static constexpr bool kTracksSaturation = true;
   // Reads and clears the sticky saturation flag (the oscillator, after each step).
   static bool take_saturation() noexcept { return take_fixed_point_saturation(); }

@@ -23,7 +23,8 @@ inline constexpr double kFixedPointMinimumSteps = 1024.0;
 // precision, and the step's intermediates at those ranges (input force m a_u, spring force k x_r,
 // damper force b v_r with v_r up to omega0 X + A/omega0, limit force, seat acceleration, c v_r).
 // The message starts with the parameter to change and names the quantity that would not fit.
+// tick_level: the event search's ticks are dt / 2^tick_level (they must keep their precision too).
 ConfigResult check_fixed_point_scene(const OscillatorParams& params, const DiscreteModel& model,
-                                     int integer_bits, int fraction_bits) noexcept;
+                                     int integer_bits, int fraction_bits, int tick_level) noexcept;
 
 }  // namespace stickslip

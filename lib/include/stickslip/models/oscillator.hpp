@@ -78,8 +78,10 @@ class Oscillator {
     }
     if constexpr (S::kTracksSaturation) {
       // Fixed point: the scene's coefficients and intermediates must fit the format.
-      if (result.ok()) result = check_fixed_point_scene(params, model, T::kIntegerBits,
-                                                        T::kFractionBits);
+      if (result.ok()) {
+        result = check_fixed_point_scene(params, model, T::kIntegerBits, T::kFractionBits,
+                                         S::kEventTickLevel);
+      }
     }
     if (!result.ok()) return result;
     for (int level = 0; level < kMapLevels; ++level) {
@@ -109,10 +111,13 @@ class Oscillator {
     }
     // The event search: bisection down to ticks of dt / 2^event_level_, then the Taylor
     // polynomial of the exact solution (exact integrator) or linear interpolation inside a tick.
-    // (A fixed-point scalar always bisects and interpolates: {kEventLevels, 0}.)
-    const EventSearchPlan plan =
-        S::kTaylorEventSearch ? event_search_plan(params, S::to_double(ScalarTraits<T>::epsilon()))
-                              : EventSearchPlan{kEventLevels, 0};
+    // (A fixed-point scalar always bisects and interpolates, in ticks of its own size.)
+    EventSearchPlan plan{kEventLevels, 0};
+    if constexpr (S::kTaylorEventSearch) {
+      plan = event_search_plan(params, S::to_double(ScalarTraits<T>::epsilon()));
+    } else {
+      plan = EventSearchPlan{S::kEventTickLevel, 0};
+    }
     event_level_ = plan.tick_level;
     ticks_per_step_ = 1u << plan.tick_level;
     inv_ticks_ = S::from_double(1.0 / static_cast<double>(ticks_per_step_));  // a power of two

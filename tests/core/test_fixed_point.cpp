@@ -253,6 +253,7 @@ TEST(FixedPointOscillator, SaturationDuringARunIsFlaggedNeverSilent) {
     CHECK(later.x_r_m <= Fixed(0));  // the seat lags the floor: never wrapped to the other sign
   }
   CHECK(seat.saturated_steps() > after_one);
+  CHECK(seat.x_r() < Fixed(0));
   seat.reset(Fixed(0), Fixed(0), Fixed(0));
   LONGS_EQUAL(0, seat.saturated_steps());
 }

@@ -232,6 +232,7 @@ class Oscillator {
   }
 
  public:
+  T x_r() const noexcept { return x_; }
   T v_r() const noexcept { return v_; }
   bool stuck() const noexcept {
     if constexpr (Law::kind == LawKind::sticking) return direction_ == T(0);

@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Installs the Debian packages stickslip needs, only those missing (apt-get when root, sudo when
 # available); prints what it does and fails clearly when it cannot install.
-#   tools/install-deps.sh            build and test dependencies
-#   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind)
+#   tools/install-deps.sh            build and test dependencies (the arm-none-eabi cross toolchain too)
+#   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind,
+#                                    python3 and qemu-system-arm for tools/embedded-report.sh)
 set -euo pipefail
 
-packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev libtomlplusplus-dev)
+packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev libtomlplusplus-dev
+          gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib)
 for group in "$@"; do
   case "$group" in
-    --report) packages+=(gnuplot-nox valgrind) ;;
+    --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm) ;;
     *) echo "install-deps: unknown group '$group' (known: --report)" >&2; exit 2 ;;
   esac
 done

@@ -1,5 +1,7 @@
-// Compiles every oscillator the library offers, for float and double, with the core's own flags
+// Compiles every oscillator the library offers, for float and double (and the laws fixed point
+// offers, for Fixed), with the core's own flags
 // (-fno-exceptions -fno-rtti -Werror), so a header that stops building for one of them fails here.
+#include "stickslip/core/fixed_point.hpp"
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/metrics/batch_statistics.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
@@ -24,6 +26,10 @@ template class Oscillator<float, SmoothFriction<SmoothingLaw::erf>>;
 template class Oscillator<float, SmoothFriction<SmoothingLaw::rational>>;
 template class Oscillator<float, CoulombStickSlip>;
 template class Oscillator<float, StribeckStickSlip>;
+template class Oscillator<Fixed, NoFriction>;
+template class Oscillator<Fixed, SignumFriction>;
+template class Oscillator<Fixed, SmoothFriction<SmoothingLaw::rational>>;
+template class Oscillator<Fixed, CoulombStickSlip>;
 template class RunningStatistics<double>;
 template class RunningStatistics<float>;
 template class StickSlipBatch<double, 8>;

@@ -78,7 +78,17 @@ void add_simulate(CLI::App& app, Options& o) {
                        "euler | symplectic | rk4 | exact | reference (default: exact for "
                        "linear, signum, stick-slip; rk4 for smooth, stribeck; reference: the "
                        "event-driven reference solver, double only)");
-  simulate->add_option("--scalar", o.scalar, "double | float")->capture_default_str();
+  simulate->add_option("--scalar", o.scalar,
+                       "double | float | fixed (Q23.40 fixed point: linear, signum, smooth rational, "
+                       "stick-slip; euler, symplectic, exact)")->capture_default_str();
+  simulate
+      ->add_option("--input-range", p.input_range_m_per_s2,
+                   "fixed point: largest |a_u| its scaling must hold, m/s^2")
+      ->capture_default_str();
+  simulate
+      ->add_option("--displacement-range", p.displacement_range_m,
+                   "fixed point: largest |x_r| its scaling must hold, m")
+      ->capture_default_str();
   simulate->add_option("--x0", o.simulate.setup.x0_m, "initial x_r, m")->capture_default_str();
   simulate->add_option("--v0", o.simulate.setup.v0_m_per_s, "initial v_r, m/s")
       ->capture_default_str();
@@ -137,7 +147,7 @@ int run_simulate(CLI::App& simulate, Options& o, std::ostream& out) {
                      "' (expected euler, symplectic, rk4, exact or reference)");
   }
   if (!parse_scalar(o.scalar, request.scalar)) {
-    throw UsageError("--scalar: unknown scalar '" + o.scalar + "' (expected double or float)");
+    throw UsageError("--scalar: unknown scalar '" + o.scalar + "' (expected double, float or fixed)");
   }
   if (simulate.get_option("--ffs")->count() == 0) p.static_friction_n = p.kinetic_friction_n;
   const SimulateResult result = simulate_file(request);

@@ -36,7 +36,11 @@ const char* option_for(const std::string& parameter) {
                {"static_friction_n", "--ffs"},
                {"stribeck_velocity_m_per_s", "--stribeck-velocity"},
                {"smoothing_constant_s_per_m", "--smoothing-c"},
-               {"model", "--model"}};
+               {"model", "--model"},
+               {"smoothing", "--smoothing"},
+               {"input_range_m_per_s2", "--input-range"},
+               {"displacement_range_m", "--displacement-range"},
+               {"integrator", "--integrator"}};
   for (const auto& entry : table)
     if (parameter == entry.parameter) return entry.option;
   return nullptr;
@@ -116,6 +120,9 @@ std::string make_fresh_directory() {
 SimulateResult simulate_file(const SimulateRequest& request) {
   require_finite("--x0", request.setup.x0_m);
   require_finite("--v0", request.setup.v0_m_per_s);
+  if (request.setup.reference && request.scalar == ScalarType::fixed) {
+    throw UsageError("--scalar fixed: the reference integrator runs in double only; use --scalar double");
+  }
   if (request.setup.reference && request.scalar == ScalarType::float32) {
     throw UsageError(
         "--scalar float: the reference integrator runs in double only (long double inside); "
@@ -139,7 +146,15 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   CsvWriter writer(output);
 
   SimulateResult result;
-  if (request.scalar == ScalarType::float32) {
+  if (request.scalar == ScalarType::fixed) {
+    SimulationTrace<double> trace;
+    try {
+      result.summary = simulate_signal_fixed(setup, signal.a_u_m_per_s2, trace);
+    } catch (const ConfigurationError& error) {
+      throw HostError(explain_configuration_error(error.what(), request.input_path, setup.params.dt_s));
+    }
+    write_trace(writer, signal, trace);
+  } else if (request.scalar == ScalarType::float32) {
     // Converted once, before the loop: the float run sees only floats (and only finite ones).
     for (std::size_t n = 0; n < signal.a_u_m_per_s2.size(); ++n) {
       if (std::fabs(signal.a_u_m_per_s2[n]) > static_cast<double>(FLT_MAX)) {

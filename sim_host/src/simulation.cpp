@@ -5,6 +5,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "stickslip/core/fixed_point.hpp"
 #include "stickslip/host/reference_solver.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
@@ -13,7 +14,15 @@
 namespace stickslip::host {
 
 const char* scalar_name(ScalarType scalar) noexcept {
-  return scalar == ScalarType::float32 ? "float" : "double";
+  switch (scalar) {
+    case ScalarType::float32:
+      return "float";
+    case ScalarType::fixed:
+      return "fixed";
+    case ScalarType::float64:
+    default:
+      return "double";
+  }
 }
 
 bool parse_scalar(const std::string& name, ScalarType& out) noexcept {
@@ -23,6 +32,10 @@ bool parse_scalar(const std::string& name, ScalarType& out) noexcept {
   }
   if (name == "float") {
     out = ScalarType::float32;
+    return true;
+  }
+  if (name == "fixed") {
+    out = ScalarType::fixed;
     return true;
   }
   return false;
@@ -77,7 +90,126 @@ SimulationSummary simulate_reference(const SimulationSetup& setup, const std::ve
   return summary;
 }
 
+// The oscillators fixed point offers (no transcendental functions); any other model goes to the
+// stick-slip oscillator, whose configure() refuses it by name.
+template <typename Fn>
+decltype(auto) with_fixed_oscillator(const OscillatorParams& params, Fn&& fn) {
+  switch (params.model) {
+    case FrictionModel::linear: {
+      Oscillator<Fixed, NoFriction> oscillator;
+      return fn(oscillator);
+    }
+    case FrictionModel::signum: {
+      Oscillator<Fixed, SignumFriction> oscillator;
+      return fn(oscillator);
+    }
+    case FrictionModel::smooth: {
+      Oscillator<Fixed, SmoothFriction<SmoothingLaw::rational>> oscillator;
+      return fn(oscillator);
+    }
+    case FrictionModel::stick_slip:
+    case FrictionModel::stribeck:
+    default: {
+      Oscillator<Fixed, CoulombStickSlip> oscillator;
+      return fn(oscillator);
+    }
+  }
+}
+
 }  // namespace
+
+SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
+                                        const std::vector<double>& a_u,
+                                        SimulationTrace<double>& trace) {
+  const std::size_t count = a_u.size();
+  if (count < 2) throw HostError("simulate needs at least 2 samples");
+  if (setup.reference) {
+    throw UsageError("--scalar: the reference integrator runs in double only; use --scalar double");
+  }
+  // Models fixed point cannot run are named by the core, from the model's own check.
+  if (setup.params.model == FrictionModel::stribeck ||
+      (setup.params.model == FrictionModel::smooth &&
+       setup.params.smoothing != SmoothingLaw::rational)) {
+    DiscreteModel model;
+    ConfigResult refused = discretise(setup.params, model);
+    if (refused.ok()) {
+      refused = check_fixed_point_scene(setup.params, model, Fixed::kIntegerBits,
+                                        Fixed::kFractionBits, ScalarTraits<Fixed>::kEventTickLevel);
+    }
+    throw ConfigurationError(refused.message.c_str());
+  }
+  trace.x_r_m.resize(count);
+  trace.v_r_m_per_s.resize(count);
+  trace.a_x_m_per_s2.resize(count);
+  trace.friction_n.resize(count);
+  trace.stuck.resize(count);
+  const int repetitions = repetitions_for(setup, count);
+
+  return with_fixed_oscillator(setup.params, [&](auto& oscillator) {
+    const ConfigResult configured = oscillator.configure(setup.params);
+    if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+    const Fixed x0(setup.x0_m), v0(setup.v0_m_per_s);
+
+    RunningStatistics<double> statistics;
+    std::uint64_t events = 0, saturated_steps = 0;
+    const auto store = [&](std::size_t n, const StepOutput<Fixed>& out) {
+      trace.x_r_m[n] = out.x_r_m.to_double();
+      trace.v_r_m_per_s[n] = out.v_r_m_per_s.to_double();
+      trace.a_x_m_per_s2[n] = out.a_x_m_per_s2.to_double();
+      trace.friction_n[n] = out.friction_n.to_double();
+      trace.stuck[n] = out.stuck ? 1 : 0;
+    };
+    std::vector<double> seconds;
+    seconds.reserve(static_cast<std::size_t>(repetitions));
+    for (int repetition = 0; repetition < repetitions; ++repetition) {
+      const auto start = std::chrono::steady_clock::now();
+      // (The initial state's conversions: a value beyond the format is counted as a saturated
+      // step of its own.)
+      const Fixed a_u0(a_u[0]);
+      const bool start_saturated = take_fixed_point_saturation();
+      oscillator.reset(x0, v0, a_u0);
+      statistics.reset();
+      events = 0;
+      const StepOutput<Fixed> initial = oscillator.current();
+      store(0, initial);
+      statistics.add_sample(a_u0.to_double(), initial.a_x_m_per_s2.to_double());
+      for (std::size_t n = 1; n < count; ++n) {
+        // Converted here, as an ECU converts its input: a sample beyond the format saturates and
+        // the step it feeds counts it.
+        const Fixed a_u_n(a_u[n]);
+        const StepOutput<Fixed> out = oscillator.step(a_u_n);
+        store(n, out);
+        statistics.add_sample(a_u_n.to_double(), out.a_x_m_per_s2.to_double());
+        statistics.add_step(out.stuck_fraction.to_double());
+        events += out.events;
+      }
+      const auto stop = std::chrono::steady_clock::now();
+      seconds.push_back(std::chrono::duration<double>(stop - start).count());
+      saturated_steps = oscillator.saturated_steps() + (start_saturated ? 1u : 0u);
+    }
+    std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
+
+    SimulationSummary summary;
+    summary.samples = statistics.samples();
+    summary.steps = statistics.steps();
+    summary.dt_s = setup.params.dt_s;
+    summary.rms_u = statistics.rms_u();
+    summary.rms_x = statistics.rms_x();
+    summary.transmissibility = statistics.transmissibility();
+    summary.stick_probability = statistics.stick_probability();
+    summary.den_hartog_k =
+        den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
+    summary.ns_per_sample =
+        seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
+    summary.repetitions = repetitions;
+    summary.events = events;
+    summary.rejected_inputs = oscillator.rejected_inputs();
+    summary.event_budget_exhausted = oscillator.event_budget_exhausted();
+    summary.state_resets = oscillator.state_resets();
+    summary.saturated_steps = saturated_steps;
+    return summary;
+  });
+}
 
 template <typename T>
 SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vector<T>& a_u,

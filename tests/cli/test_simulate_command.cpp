@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "cli_test_support.hpp"
+#include "stickslip/core/fixed_point.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/models/dispatch.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
@@ -185,6 +186,62 @@ TEST(SimulateCommand, FloatRunEqualsADirectFloatRunBitForBit) {
   auto p = params(stickslip::FrictionModel::stick_slip, 45.0);
   p.static_friction_n = 60.0;
   expect_output_equals_direct_run<float>(stickslip::test::read_table(dir.file("out.csv")), p);
+}
+
+// --scalar fixed: every row equals a direct Oscillator<Fixed> run, converted to double (exact for
+// these magnitudes), and the statistics say whether anything saturated.
+TEST(SimulateCommand, FixedRunEqualsADirectFixedRunBitForBit) {
+  const CliRun run = simulate({"--model", "stick-slip", "--ffk", "45", "--ffs", "60", "--scalar",
+                               "fixed", "--repetitions", "1"});
+  LONGS_EQUAL(0, run.status);
+  const nlohmann::json stats = last_line_json(run.out);
+  STRCMP_EQUAL("fixed", stats["scalar"].get<std::string>().c_str());
+  CHECK_FALSE(stats["saturation"].get<bool>());
+  LONGS_EQUAL(0, stats["saturated_steps"].get<long>());
+  auto p = params(stickslip::FrictionModel::stick_slip, 45.0);
+  p.static_friction_n = 60.0;
+  const Table table = stickslip::test::read_table(dir.file("out.csv"));
+  stickslip::Oscillator<stickslip::Fixed, stickslip::CoulombStickSlip> seat;
+  CHECK_TRUE(seat.configure(p).ok());
+  seat.reset(stickslip::Fixed(0), stickslip::Fixed(0), stickslip::Fixed(table.rows[0][kAu]));
+  for (std::size_t n = 0; n < table.rows.size(); ++n) {
+    const auto out = n == 0 ? seat.current() : seat.step(stickslip::Fixed(table.rows[n][kAu]));
+    const auto& row = table.rows[n];
+    if (!(row[kXr] == out.x_r_m.to_double() && row[kVr] == out.v_r_m_per_s.to_double() &&
+          row[kAx] == out.a_x_m_per_s2.to_double() && row[kFf] == out.friction_n.to_double() &&
+          row[kStuck] == (out.stuck ? 1.0 : 0.0))) {
+      FAIL(("row " + std::to_string(n) + " differs from the direct fixed-point run").c_str());
+    }
+  }
+  // Saturation is reported, not hidden: an input far beyond the checked range.
+  stickslip::test::write_text(input, "t,a_u\n0,0\n0.001,200000\n0.002,200000\n0.003,0\n");
+  const CliRun hard = simulate({"--model", "stick-slip", "--ffk", "45", "--scalar", "fixed",
+                                "--repetitions", "1"});
+  LONGS_EQUAL(0, hard.status);
+  CHECK_TRUE(last_line_json(hard.out)["saturation"].get<bool>());
+  CHECK(last_line_json(hard.out)["saturated_steps"].get<long>() >= 1);
+}
+
+TEST(SimulateCommand, FixedRefusesWhatFixedPointDoesNotOfferByName) {
+  const CliRun stribeck = simulate({"--model", "stribeck", "--ffk", "45", "--scalar", "fixed"});
+  CHECK(stribeck.status != 0);
+  CHECK_TEXT(stribeck.err.find("--model: model: stribeck needs exp()") != std::string::npos,
+             stribeck.err.c_str());
+  const CliRun tanh = simulate({"--model", "smooth", "--ffk", "45", "--scalar", "fixed"});
+  CHECK(tanh.status != 0);
+  CHECK_TEXT(tanh.err.find("--smoothing: smoothing: tanh") != std::string::npos, tanh.err.c_str());
+  const CliRun stiff = simulate({"--model", "stick-slip", "--ffk", "45", "--stiffness", "5e6",
+                                 "--scalar", "fixed"});
+  CHECK(stiff.status != 0);
+  CHECK_TEXT(stiff.err.find("--stiffness: stiffness_n_per_m: the stiffness k") != std::string::npos,
+             stiff.err.c_str());
+  const CliRun range = simulate({"--model", "stick-slip", "--ffk", "45", "--scalar", "fixed",
+                                 "--input-range", "1e5"});
+  CHECK(range.status != 0);
+  CHECK_TEXT(range.err.find("--input-range: input_range_m_per_s2: the input force m*a_u") !=
+                 std::string::npos,
+             range.err.c_str());
+  CHECK_FALSE(stickslip::test::exists(dir.file("out.csv")));
 }
 
 TEST(SimulateCommand, OptionsReachTheModel) {

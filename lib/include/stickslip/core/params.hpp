@@ -40,6 +40,11 @@ struct OscillatorParams {
   double dt_s = 1e-3;
   FrictionModel model = FrictionModel::stick_slip;
   Integrator integrator = Integrator::exact;
+  // Fixed point only (Oscillator<Fixed, ...>): the ranges its scaling must hold. configure()
+  // refuses a scene whose values at these ranges would not fit (core/fixed_point_scaling.hpp);
+  // beyond them a run saturates and says so (Oscillator::saturated_steps()).
+  double input_range_m_per_s2 = 50.0;  // largest |a_u|
+  double displacement_range_m = 1.0;   // largest |x_r|
 };
 
 // The integrator `simulate` uses when none is named: the most accurate one for the model.

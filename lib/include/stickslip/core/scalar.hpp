@@ -23,6 +23,11 @@ struct ScalarTraits;
 
 template <typename Float>
 struct FloatScalarTraits {
+  // The exact integrator's event search solves the Taylor polynomial inside a tick (a fixed-point
+  // scalar bisects and interpolates instead).
+  static constexpr bool kTaylorEventSearch = true;
+  // Saturation cannot happen: IEEE overflow gives Inf, which the step's guards handle.
+  static constexpr bool kTracksSaturation = false;
   static constexpr Float from_double(double value) noexcept { return static_cast<Float>(value); }
   static constexpr double to_double(Float value) noexcept { return static_cast<double>(value); }
   static bool is_finite(Float value) noexcept { return std::isfinite(value); }

@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "stickslip/core/fixed_point_scaling.hpp"
 #include "stickslip/core/params.hpp"
 #include "stickslip/core/scalar.hpp"
 #include "stickslip/core/status.hpp"
@@ -75,6 +76,13 @@ class Oscillator {
           .append(model_name(params.model))
           .append("'");
     }
+    if constexpr (S::kTracksSaturation) {
+      // Fixed point: the scene's coefficients and intermediates must fit the format.
+      if (result.ok()) {
+        result = check_fixed_point_scene(params, model, T::kIntegerBits, T::kFractionBits,
+                                         S::kEventTickLevel);
+      }
+    }
     if (!result.ok()) return result;
     for (int level = 0; level < kMapLevels; ++level) {
       maps_[level] = StepMap<T>::from_double(model.maps[level]);
@@ -103,8 +111,13 @@ class Oscillator {
     }
     // The event search: bisection down to ticks of dt / 2^event_level_, then the Taylor
     // polynomial of the exact solution (exact integrator) or linear interpolation inside a tick.
-    const EventSearchPlan plan =
-        event_search_plan(params, S::to_double(ScalarTraits<T>::epsilon()));
+    // (A fixed-point scalar always bisects and interpolates, in ticks of its own size.)
+    EventSearchPlan plan{kEventLevels, 0};
+    if constexpr (S::kTaylorEventSearch) {
+      plan = event_search_plan(params, S::to_double(ScalarTraits<T>::epsilon()));
+    } else {
+      plan = EventSearchPlan{S::kEventTickLevel, 0};
+    }
     event_level_ = plan.tick_level;
     ticks_per_step_ = 1u << plan.tick_level;
     inv_ticks_ = S::from_double(1.0 / static_cast<double>(ticks_per_step_));  // a power of two
@@ -114,9 +127,16 @@ class Oscillator {
                                         static_cast<double>(kTicksPerStep));
     taylor_ = TaylorCoefficients<T>{};
     taylor_.order = plan.taylor_order;
-    fill_taylor_coefficients(taylor_, model.block_s[event_level_], model.stiffness_over_mass,
-                             model.damping_over_mass);
+    if constexpr (S::kTaylorEventSearch) {
+      fill_taylor_coefficients(taylor_, model.block_s[event_level_], model.stiffness_over_mass,
+                               model.damping_over_mass);
+    }
     reset(T(0), T(0), T(0));
+    if constexpr (S::kTracksSaturation) {
+      // The conversions above fit (checked); start the run with a clear flag.
+      (void)S::take_saturation();
+      saturated_steps_ = 0;
+    }
     return result;
   }
 
@@ -129,6 +149,7 @@ class Oscillator {
     event_budget_exhausted_ = 0;
     rejected_inputs_ = 0;
     state_resets_ = 0;
+    saturated_steps_ = 0;
     if constexpr (Law::kind == LawKind::held) {
       held_force_ = Law::force(v_, friction_);
       reported_force_ = held_force_;
@@ -149,6 +170,19 @@ class Oscillator {
   // Advances one sample: from the previous input a_u[n-1] to a_u_next = a_u[n].
   // A non-finite input is replaced by the previous one and counted in rejected_inputs().
   STICKSLIP_INLINE_STEP StepOutput<T> step(T a_u_next) noexcept {
+    if constexpr (S::kTracksSaturation) {
+      // Fixed point: every operation of this step that saturated set the sticky flag (so did
+      // the caller's conversion of a_u_next, if it did not fit): count the step.
+      const StepOutput<T> out = step_unchecked(a_u_next);
+      if (S::take_saturation()) ++saturated_steps_;
+      return out;
+    } else {
+      return step_unchecked(a_u_next);
+    }
+  }
+
+ private:
+  STICKSLIP_INLINE_STEP StepOutput<T> step_unchecked(T a_u_next) noexcept {
     if (!S::is_finite(a_u_next)) {
       a_u_next = a_prev_;
       ++rejected_inputs_;
@@ -197,6 +231,7 @@ class Oscillator {
     return out;
   }
 
+ public:
   T x_r() const noexcept { return x_; }
   T v_r() const noexcept { return v_; }
   bool stuck() const noexcept {
@@ -210,6 +245,11 @@ class Oscillator {
   std::uint64_t rejected_inputs() const noexcept { return rejected_inputs_; }
   // Times the non-finite guard restarted the state from rest (0 for any accepted configuration).
   std::uint64_t state_resets() const noexcept { return state_resets_; }
+  // Fixed point: steps in which an operation saturated (always 0 for float and double). Non-zero
+  // means the scene left the ranges configure() checked (OscillatorParams::input_range_m_per_s2,
+  // displacement_range_m): the outputs of those steps are clipped, not wrapped.
+  std::uint64_t saturated_steps() const noexcept { return saturated_steps_; }
+  bool saturated() const noexcept { return saturated_steps_ != 0; }
 
   // The mutable state between two steps (the counters apart), for a caller that keeps many
   // oscillators' states elsewhere (StickSlipBatch) or checkpoints a run. restore() takes a state
@@ -261,6 +301,16 @@ class Oscillator {
 
   static constexpr T kHalf = T(0.5);
 
+  // The exact integrator's Taylor event search (never for a fixed-point scalar: known at compile
+  // time, so that its code is not in the fixed-point step).
+  bool taylor_search() const noexcept {
+    if constexpr (S::kTaylorEventSearch) {
+      return taylor_.order > 0;
+    } else {
+      return false;
+    }
+  }
+
   T phi(const Position& pos) const noexcept { return (T(pos.tick) + pos.frac) * inv_ticks_; }
 
   T limit_force(T a_u, T x) const noexcept { return -(mass_kg_ * a_u + stiffness_ * x); }
@@ -300,7 +350,9 @@ class Oscillator {
     const unsigned size = ticks_per_step_ >> level;
     const T a_u0 = in.at(T(tick) * inv_ticks_);
     const T a_u1 = in.at(T(tick + size) * inv_ticks_);
-    if (stage_friction_) {
+    // (Known false at compile time for a law without velocity dependence: no RK4 code in its
+    // step.)
+    if (Law::velocity_dependent && stage_friction_) {
       advance_rk4(x, v, level, a_u0, a_u1, force);
     } else {
       // Friction held over the block at its value at the block start.
@@ -385,7 +437,7 @@ class Oscillator {
   bool slip(Position& pos, T& x, T& v, T d, const Input& in, const Force& force,
             bool starting = false, const WholeSlip<T>* whole_step = nullptr) const noexcept {
     if (pos.tick < ticks_per_step_ && (pos.frac > T(0) || starting)) {
-      if (taylor_.order > 0) {
+      if (taylor_search()) {
         if (finish_tick_taylor(pos, x, v, d, in, force(v), starting)) return true;
       } else {
         // Finish the tick we are inside, with a second-order Taylor step.
@@ -439,7 +491,7 @@ class Oscillator {
             continue;
           }
           // Inside one tick.
-          if (taylor_.order > 0) {
+          if (taylor_search()) {
             const TaylorSegment<T> segment(taylor_, x, v, -(a_u_start + inv_mass_ * force_start),
                                            input_slope_per_tick(in), T(0));
             T root = T(0);
@@ -661,6 +713,7 @@ class Oscillator {
   std::uint64_t event_budget_exhausted_ = 0;
   std::uint64_t rejected_inputs_ = 0;
   std::uint64_t state_resets_ = 0;
+  std::uint64_t saturated_steps_ = 0;
 };
 
 }  // namespace stickslip

@@ -16,8 +16,12 @@ namespace stickslip {
 // x is finite, tested without any FP exception and without branches (so that a loop over lanes
 // vectorises): the exponent field alone, read as a number, is +inf exactly when x is inf or NaN,
 // and is never NaN itself, so comparing it is quiet whatever the compiler makes of the compare.
+// (A non-IEEE scalar, fixed point, asks its traits.)
 template <typename T>
 inline bool finite_quietly(T x) noexcept {
+  if constexpr (!std::numeric_limits<T>::is_iec559) {
+    return ScalarTraits<T>::is_finite(x);
+  } else {
   static_assert(std::numeric_limits<T>::is_iec559, "IEEE 754 binary formats only");
   using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
   static_assert(sizeof(Bits) == sizeof(T), "an unsigned integer of T's size");
@@ -29,6 +33,7 @@ inline bool finite_quietly(T x) noexcept {
   T exponent;
   std::memcpy(&exponent, &bits, sizeof bits);
   return exponent != infinity;
+  }
 }
 
 // a_x = -(k x_r + b v_r + F_f)/m, the seat's absolute acceleration.

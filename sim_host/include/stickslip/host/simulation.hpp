@@ -11,8 +11,9 @@
 
 namespace stickslip::host {
 
-enum class ScalarType : std::uint8_t { float64, float32 };
-const char* scalar_name(ScalarType scalar) noexcept;  // "double", "float"
+// fixed: the core's Q23.40 fixed-point scalar (core/fixed_point.hpp).
+enum class ScalarType : std::uint8_t { float64, float32, fixed };
+const char* scalar_name(ScalarType scalar) noexcept;  // "double", "float", "fixed"
 bool parse_scalar(const std::string& name, ScalarType& out) noexcept;
 
 struct SimulationSetup {
@@ -49,6 +50,7 @@ struct SimulationSummary {
   std::uint64_t rejected_inputs = 0;         // non-finite input samples replaced
   std::uint64_t event_budget_exhausted = 0;  // steps that hit the event budget
   std::uint64_t state_resets = 0;            // non-finite state restarts
+  std::uint64_t saturated_steps = 0;         // fixed point: steps in which a value saturated
 };
 
 // configure() refused the parameters; what() is the core's message, which names the parameter
@@ -66,5 +68,14 @@ class ConfigurationError : public HostError {
 template <typename T>
 SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vector<T>& a_u,
                                   SimulationTrace<T>& trace);
+
+// --scalar fixed: as simulate_signal, with the oscillator in fixed point (Q23.40). The input is
+// converted once, before the loop (a sample beyond the format saturates and is counted in
+// saturated_steps like any saturation in the step); the trace and the statistics hold the outputs
+// converted exactly to double. Models and integrators fixed point does not offer are refused by
+// configure() (ConfigurationError), as are scenes whose values would not fit.
+SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
+                                        const std::vector<double>& a_u,
+                                        SimulationTrace<double>& trace);
 
 }  // namespace stickslip::host

@@ -1,0 +1,161 @@
+// QEMU's mps2 boards (mps2-an385: Cortex-M3, runs the Cortex-M0+ build; mps2-an386: Cortex-M4F)
+// with semihosting: the "CAN controller" delivers the payloads of stickslip-input.bin one
+// frame per interrupt, the node's records go to stickslip-output.bin, and the figures of the run
+// to the console. Under `-icount shift=0` one instruction advances the virtual clock by 1 ns, so
+// SysTick (processor clock, 25 MHz on mps2) counts one tick per 40 instructions: the total over
+// the run gives the instructions per frame.
+#include <cstddef>
+#include <cstdint>
+
+#include "board.hpp"
+#include "node.hpp"
+#include "replay.hpp"
+
+extern "C" void CAN0_IRQHandler();
+extern "C" std::uint32_t __bss_end, __stack_top;  // linker script
+
+namespace {
+
+// Arm semihosting (bkpt 0xab; r0 = operation, r1 = argument block).
+int semihost(int operation, const void* argument) {
+  register int r0 __asm("r0") = operation;
+  register const void* r1 __asm("r1") = argument;
+  __asm volatile("bkpt 0xab" : "+r"(r0) : "r"(r1) : "memory");
+  return r0;
+}
+constexpr int kSysOpen = 0x01, kSysWrite0 = 0x04, kSysWrite = 0x05, kSysRead = 0x06,
+              kSysExit = 0x18;
+
+int open_file(const char* name, int mode) {
+  std::size_t length = 0;
+  while (name[length] != '\0') ++length;
+  const std::uintptr_t block[3] = {reinterpret_cast<std::uintptr_t>(name),
+                                   static_cast<std::uintptr_t>(mode), length};
+  return semihost(kSysOpen, block);
+}
+void print(const char* text) { semihost(kSysWrite0, text); }
+void print_number(std::uint64_t value) {
+  char digits[24];
+  int at = 23;
+  digits[at] = '\0';
+  do {
+    digits[--at] = static_cast<char>('0' + value % 10u);
+    value /= 10u;
+  } while (value != 0u);
+  print(digits + at);
+}
+[[noreturn]] void exit_with(bool success) {
+  // ADP_Stopped_ApplicationExit (QEMU exits 0) or ADP_Stopped_RunTimeErrorUnknown (exits 1).
+  semihost(kSysExit, reinterpret_cast<const void*>(success ? 0x20026u : 0x20023u));
+  for (;;) {
+  }
+}
+
+int input_file = -1, output_file = -1;
+
+struct ReadInput {
+  std::size_t operator()(std::uint8_t* buffer, std::size_t capacity) const {
+    const std::uintptr_t block[3] = {static_cast<std::uintptr_t>(input_file),
+                                     reinterpret_cast<std::uintptr_t>(buffer), capacity};
+    return capacity - static_cast<std::size_t>(semihost(kSysRead, block));  // returns bytes NOT read
+  }
+};
+struct WriteOutput {
+  void operator()(const std::uint8_t* bytes, std::size_t count) const {
+    const std::uintptr_t block[3] = {static_cast<std::uintptr_t>(output_file),
+                                     reinterpret_cast<std::uintptr_t>(bytes), count};
+    if (semihost(kSysWrite, block) != 0) {
+      print("board_qemu: cannot write stickslip-output.bin\n");
+      exit_with(false);
+    }
+  }
+};
+Replay<ReadInput, WriteOutput> replay{ReadInput{}, WriteOutput{}};
+
+stickslip::can::Frame pending;
+bool has_pending = false;
+
+// SysTick, free running from the processor clock.
+volatile std::uint32_t* const kSysTick = reinterpret_cast<volatile std::uint32_t*>(0xE000E010u);
+constexpr std::uint32_t kTicksMask = 0xFFFFFFu;
+constexpr std::uint64_t kInstructionsPerTick = 40;  // 25 MHz processor clock, 1 ns per instruction
+
+std::uint64_t frames = 0, ticks = 0, worst_ticks = 0;
+// Frames by instructions, in buckets of 100 (the last one: 100 * (kBuckets - 1) and more), for
+// the percentiles.
+constexpr int kBuckets = 2001;
+std::uint32_t histogram[kBuckets] = {};
+std::uintptr_t callback_stack_base = 0;  // an address in board_idle's frame, above the callback's
+constexpr std::uint32_t kStackPaint = 0x5AC3A55Au;
+
+}  // namespace
+
+extern "C" void board_start() {
+  // Paint the free stack (below this frame) to measure its high-water mark at the end.
+  std::uint32_t here = 0;
+  for (std::uint32_t* word = &__bss_end; word + 16 < &here; ++word) *word = kStackPaint;
+  input_file = open_file("stickslip-input.bin", 1);    // "rb"
+  output_file = open_file("stickslip-output.bin", 5);  // "wb"
+  if (input_file < 0 || output_file < 0) {
+    print("board_qemu: cannot open stickslip-input.bin / stickslip-output.bin\n");
+    exit_with(false);
+  }
+  kSysTick[1] = kTicksMask;  // reload
+  kSysTick[2] = 0;           // current
+  kSysTick[0] = 5;           // enable, processor clock, no interrupt
+}
+
+extern "C" bool board_can_read(stickslip::can::Frame* frame) {
+  if (!has_pending) return false;
+  *frame = pending;
+  has_pending = false;
+  return true;
+}
+
+extern "C" void board_can_send(const stickslip::can::Frame* /*frame*/) {}
+
+extern "C" void board_idle() {
+  if (replay.next_frame(&pending)) {
+    has_pending = true;
+    volatile std::uint32_t marker = 0;
+    callback_stack_base = reinterpret_cast<std::uintptr_t>(&marker);
+    const std::uint32_t before = kSysTick[2];
+    CAN0_IRQHandler();  // the receive interrupt, as the controller would raise it
+    const std::uint32_t after = kSysTick[2];
+    const std::uint32_t elapsed = (before - after) & kTicksMask;  // counts down
+    ticks += elapsed;
+    if (elapsed > worst_ticks) worst_ticks = elapsed;
+    const std::uint64_t bucket = elapsed * kInstructionsPerTick / 100u;
+    ++histogram[bucket < kBuckets ? bucket : kBuckets - 1];
+    ++frames;
+    replay.record();
+    return;
+  }
+  replay.flush();
+  const std::uint32_t* lowest = &__bss_end;
+  while (lowest < &__stack_top && *lowest == kStackPaint) ++lowest;
+  print("frames ");
+  print_number(frames);
+  print("\ninstructions_per_frame_mean ");
+  print_number(frames != 0 ? ticks * kInstructionsPerTick / frames : 0);
+  // Upper edges of the buckets holding the 50th, 99th and 99.9th percentile.
+  const std::uint64_t ranks[3] = {frames / 2, frames - frames / 100, frames - frames / 1000};
+  const char* const names[3] = {"\ninstructions_per_frame_p50 ", "\ninstructions_per_frame_p99 ",
+                                "\ninstructions_per_frame_p999 "};
+  for (int i = 0; i < 3; ++i) {
+    std::uint64_t below = 0;
+    int bucket = 0;
+    while (bucket < kBuckets - 1 && below + histogram[bucket] < ranks[i]) below += histogram[bucket++];
+    print(names[i]);
+    print_number(100u * static_cast<std::uint64_t>(bucket + 1));
+  }
+  print("\ninstructions_per_frame_max ");
+  print_number(worst_ticks * kInstructionsPerTick);
+  // The deepest stack below board_idle's frame: the receive interrupt, the step and what they
+  // call (board_idle's own locals above the marker excluded).
+  print("\ncallback_stack_bytes ");
+  print_number(static_cast<std::uint64_t>(callback_stack_base -
+                                          reinterpret_cast<std::uintptr_t>(lowest)));
+  print("\n");
+  exit_with(true);
+}

@@ -1,0 +1,393 @@
+// The fixed-point scalar (core/fixed_point.hpp): rounding and saturation of every operation
+// against exact integer references, the flag never silent; the oscillator with it against double;
+// configure() refusing scenes that would not fit, by name.
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <initializer_list>
+#include <vector>
+
+#include "CppUTest/TestHarness.h"
+#include "oracles.hpp"
+#include "stickslip/core/fixed_point.hpp"
+#include "stickslip/metrics/running_statistics.hpp"
+#include "stickslip/models/oscillator.hpp"
+
+using namespace stickslip;
+
+namespace {
+
+__extension__ typedef __int128 Int128;
+
+constexpr std::int64_t kMax = INT64_MAX;
+
+// round(a * b / 2^40), ties away from zero, from the compiler's 128-bit integers.
+std::int64_t reference_product(std::int64_t a, std::int64_t b) {
+  const Int128 p = static_cast<Int128>(a) * b;
+  const Int128 magnitude = p < 0 ? -p : p;
+  const Int128 q = (magnitude + (Int128{1} << 39)) >> 40;
+  return static_cast<std::int64_t>(p < 0 ? -q : q);
+}
+
+bool contains(const char* text, const char* part) { return std::strstr(text, part) != nullptr; }
+bool starts_with(const char* text, const char* prefix) {
+  return std::strncmp(text, prefix, std::strlen(prefix)) == 0;
+}
+
+}  // namespace
+
+TEST_GROUP(FixedPointArithmetic) {
+  void setup() override { (void)take_fixed_point_saturation(); }
+};
+
+TEST(FixedPointArithmetic, ProductRoundsToNearestTiesAwayFromZero) {
+  const Fixed half(0.5), quarter(0.25);
+  LONGS_EQUAL(2, (Fixed::from_raw(3) * half).raw());    // 1.5 ulp -> 2
+  LONGS_EQUAL(-2, (Fixed::from_raw(-3) * half).raw());  // symmetric
+  LONGS_EQUAL(1, (Fixed::from_raw(1) * half).raw());    // 0.5 -> 1
+  LONGS_EQUAL(1, (Fixed::from_raw(5) * quarter).raw());  // 1.25 -> 1
+  LONGS_EQUAL(2, (Fixed::from_raw(7) * quarter).raw());  // 1.75 -> 2
+  LONGS_EQUAL(0, (Fixed::from_raw(1) * quarter).raw());  // 0.25 -> 0
+  CHECK_FALSE(fixed_point_saturated());
+}
+
+TEST(FixedPointArithmetic, ProductEqualsExact128BitReference) {
+  test::SplitMix64 random(5);
+  for (int i = 0; i < 20000; ++i) {
+    // Magnitudes from 2^0 to 2^62 ulp, both signs; products that fit.
+    const int bits_a = static_cast<int>(random.next() % 62), bits_b = 62 - bits_a;
+    std::int64_t a = static_cast<std::int64_t>(random.next() >> (64 - bits_a - 1));
+    std::int64_t b = static_cast<std::int64_t>(random.next() >> (64 - (bits_b > 40 ? 40 : bits_b)));
+    if (random.next() & 1u) a = -a;
+    if (random.next() & 1u) b = -b;
+    const Fixed product = Fixed::from_raw(a) * Fixed::from_raw(b);
+    const std::int64_t expected = reference_product(a, b);
+    if (product.raw() != expected) {
+      FAIL(StringFromFormat("%lld * %lld: %lld, expected %lld", static_cast<long long>(a),
+                            static_cast<long long>(b), static_cast<long long>(product.raw()),
+                            static_cast<long long>(expected))
+               .asCharString());
+    }
+  }
+  CHECK_FALSE(fixed_point_saturated());
+}
+
+TEST(FixedPointArithmetic, OverflowSaturatesAndSetsTheStickyFlag) {
+  const Fixed max = Fixed::from_raw(kMax), one(1);
+  // Sum.
+  LONGS_EQUAL(kMax, (max + one).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(-kMax, (-max - one).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  // Product: 4e6 * 4e6 = 1.6e13 >> 8.4e6.
+  LONGS_EQUAL(kMax, (Fixed(4e6) * Fixed(4e6)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(-kMax, (Fixed(-4e6) * Fixed(4e6)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  // Quotient.
+  LONGS_EQUAL(kMax, (Fixed(1e6) / Fixed::from_raw(1)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(-kMax, (Fixed(-3) / Fixed(0)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(0, (Fixed(0) / Fixed(0)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  // Conversions.
+  LONGS_EQUAL(kMax, Fixed(1e7).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(0, Fixed(std::nan("")).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(kMax, Fixed(1 << 24).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(0u, static_cast<unsigned>(Fixed(-1)));
+  CHECK_TRUE(take_fixed_point_saturation());
+  // Sticky: set by one operation, kept through many that do not saturate.
+  Fixed sum = max + one;
+  for (int i = 0; i < 100; ++i) sum = sum * Fixed(0.5);
+  CHECK_TRUE(fixed_point_saturated());
+  CHECK_TRUE(take_fixed_point_saturation());
+  CHECK_FALSE(fixed_point_saturated());
+  // At the limit without crossing it: no flag.
+  LONGS_EQUAL(kMax, (max - one + one).raw());
+  CHECK_FALSE(fixed_point_saturated());
+}
+
+TEST(FixedPointArithmetic, ConversionsRoundToNearest) {
+  LONGS_EQUAL(1, Fixed(0.6 / 1099511627776.0).raw());    // 0.6 ulp -> 1
+  LONGS_EQUAL(-1, Fixed(-0.6 / 1099511627776.0).raw());
+  LONGS_EQUAL(1, Fixed(0.5 / 1099511627776.0).raw());    // tie away from zero
+  LONGS_EQUAL(0, Fixed(0.4 / 1099511627776.0).raw());
+  DOUBLES_EQUAL(88.4, Fixed(88.4).to_double(), 1e-12);
+  LONGS_EQUAL(3u, static_cast<unsigned>(Fixed(3.99)));
+  CHECK_TRUE(Fixed(3) == Fixed(3.0));
+  CHECK_FALSE(fixed_point_saturated());
+}
+
+TEST(FixedPointArithmetic, QuotientWithinTwoToTheMinus29) {
+  test::SplitMix64 random(11);
+  double worst = 0.0;
+  for (int i = 0; i < 20000; ++i) {
+    const double a = random.uniform(-1.0, 1.0) * std::ldexp(1.0, static_cast<int>(random.next() % 30) - 20);
+    const double b = random.uniform(-1.0, 1.0) * std::ldexp(1.0, static_cast<int>(random.next() % 30) - 20);
+    const Fixed fa(a), fb(b);
+    if (fb.raw() == 0) continue;
+    const double exact = fa.to_double() / fb.to_double();
+    if (!(std::fabs(exact) < 1e6)) continue;
+    const double got = (fa / fb).to_double();
+    const double error = std::fabs(got - exact);
+    const double allowed = std::ldexp(std::fabs(exact), -29) + Fixed::resolution();
+    if (error > allowed) {
+      FAIL(StringFromFormat("%.17g / %.17g = %.17g, got %.17g", fa.to_double(), fb.to_double(),
+                            exact, got).asCharString());
+    }
+    const double relative = std::fabs(exact) > 1e-3 ? error / std::fabs(exact) : 0.0;
+    if (relative > worst) worst = relative;
+  }
+  test::note_margin("fixed-point quotient relative error", worst, std::ldexp(1.0, -29));
+  CHECK_FALSE(fixed_point_saturated());
+}
+
+namespace {
+
+struct Comparison {
+  double transmissibility_fixed, transmissibility_double;
+  double stick_fixed, stick_double;
+  double max_x_error;
+  std::uint64_t saturated_steps;
+};
+
+template <typename Law>
+Comparison compare_with_double(const OscillatorParams& params, const std::vector<double>& a_u) {
+  Oscillator<Fixed, Law> fixed;
+  Oscillator<double, Law> reference;
+  const ConfigResult fixed_status = fixed.configure(params);
+  CHECK_TEXT(fixed_status.ok(), fixed_status.message.c_str());
+  CHECK(reference.configure(params).ok());
+  fixed.reset(Fixed(0), Fixed(0), Fixed(a_u[0]));
+  reference.reset(0.0, 0.0, a_u[0]);
+  RunningStatistics<double> fixed_stats, double_stats;
+  fixed_stats.reset();
+  double_stats.reset();
+  Comparison c{};
+  for (std::size_t n = 1; n < a_u.size(); ++n) {
+    const auto f = fixed.step(Fixed(a_u[n]));
+    const auto d = reference.step(a_u[n]);
+    fixed_stats.add_sample(a_u[n], f.a_x_m_per_s2.to_double());
+    fixed_stats.add_step(f.stuck_fraction.to_double());
+    double_stats.add_sample(a_u[n], d.a_x_m_per_s2);
+    double_stats.add_step(d.stuck_fraction);
+    const double error = std::fabs(f.x_r_m.to_double() - d.x_r_m);
+    if (error > c.max_x_error) c.max_x_error = error;
+  }
+  c.transmissibility_fixed = fixed_stats.transmissibility();
+  c.transmissibility_double = double_stats.transmissibility();
+  c.stick_fixed = fixed_stats.stick_probability();
+  c.stick_double = double_stats.stick_probability();
+  c.saturated_steps = fixed.saturated_steps();
+  return c;
+}
+
+}  // namespace
+
+TEST_GROUP(FixedPointOscillator) {
+  void setup() override { (void)take_fixed_point_saturation(); }
+};
+
+// 30 s of the lorry-like scene at dt = 1 ms, K = 1.3: the targets of the issue (T_ax within 1 %,
+// p within 0.01, no saturation) with a wide margin, exact and symplectic.
+TEST(FixedPointOscillator, StickSlipAgreesWithDoubleOnTheLorryScene) {
+  const auto a_u = test::make_lorry_signal(3, 0.35).sample(1e-3, 30001);
+  for (Integrator integrator : {Integrator::exact, Integrator::symplectic}) {
+    OscillatorParams p = test::reference_params(FrictionModel::stick_slip, integrator, 1e-3);
+    p.kinetic_friction_n = test::kinetic_friction_for_den_hartog(1.3, test::kMassKg, 0.35);
+    p.static_friction_n = 1.25 * p.kinetic_friction_n;
+    const Comparison c = compare_with_double<CoulombStickSlip>(p, a_u);
+    const double t_error =
+        std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0);
+    test::note_margin("fixed vs double T_ax relative error", t_error, 0.01);
+    test::note_margin("fixed vs double p absolute error", std::fabs(c.stick_fixed - c.stick_double),
+                      0.01);
+    CHECK(t_error < 1e-3);
+    CHECK(std::fabs(c.stick_fixed - c.stick_double) < 1e-3);
+    CHECK(c.stick_double > 0.3);  // the scene does stick
+    CHECK(c.max_x_error < 1e-4);
+    LONGS_EQUAL(0, c.saturated_steps);
+  }
+}
+
+TEST(FixedPointOscillator, HeldLawsAgreeWithDouble) {
+  const auto a_u = test::make_lorry_signal(4, 0.35).sample(1e-3, 10001);
+  OscillatorParams p = test::reference_params(FrictionModel::signum, Integrator::exact, 1e-3);
+  p.kinetic_friction_n = 20.0;
+  Comparison c = compare_with_double<SignumFriction>(p, a_u);
+  CHECK(std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0) < 1e-3);
+  LONGS_EQUAL(0, c.saturated_steps);
+  p.model = FrictionModel::smooth;
+  p.smoothing = SmoothingLaw::rational;
+  p.smoothing_constant_s_per_m = 100.0;
+  c = compare_with_double<SmoothFriction<SmoothingLaw::rational>>(p, a_u);
+  CHECK(std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0) < 1e-3);
+  CHECK(c.max_x_error < 1e-6);
+  LONGS_EQUAL(0, c.saturated_steps);
+}
+
+// Beyond the checked input range the step saturates, and says so: counted per step, outputs
+// clipped (never wrapped round to the other sign).
+TEST(FixedPointOscillator, SaturationDuringARunIsFlaggedNeverSilent) {
+  OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::exact, 1e-3);
+  p.kinetic_friction_n = p.static_friction_n = 45.0;
+  Oscillator<Fixed, CoulombStickSlip> seat;
+  CHECK(seat.configure(p).ok());
+  seat.reset(Fixed(0), Fixed(0), Fixed(0));
+  for (int n = 0; n < 100; ++n) seat.step(Fixed(0.1));
+  LONGS_EQUAL(0, seat.saturated_steps());
+  // 2e5 m/s^2 is far beyond input_range_m_per_s2 = 50: m a_u = 1.8e7 N does not fit.
+  const auto out = seat.step(Fixed(2e5));
+  CHECK_TRUE(seat.saturated());
+  CHECK(seat.saturated_steps() >= 1);
+  // Pushed hard in +a_u, the seat lags: a_x > 0 is clipped, not wrapped to a negative value.
+  CHECK(out.a_x_m_per_s2 > Fixed(0));
+  const std::uint64_t after_one = seat.saturated_steps();
+  // Kept up, it drives x_r to ~1e5 m within 2 s: k x_r no longer fits either.
+  for (int n = 0; n < 2000; ++n) {
+    const auto later = seat.step(Fixed(2e5));
+    CHECK(later.x_r_m <= Fixed(0));  // the seat lags the floor: never wrapped to the other sign
+  }
+  CHECK(seat.saturated_steps() > after_one);
+  CHECK(seat.x_r() < Fixed(0));
+  seat.reset(Fixed(0), Fixed(0), Fixed(0));
+  LONGS_EQUAL(0, seat.saturated_steps());
+}
+
+TEST(FixedPointOscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuantity) {
+  struct Case {
+    void (*change)(OscillatorParams&);
+    const char* parameter;
+    const char* quantity;
+  };
+  const Case cases[] = {
+      {[](OscillatorParams& p) { p.stiffness_n_per_m = 5e6; }, "stiffness_n_per_m:", "stiffness"},
+      {[](OscillatorParams& p) { p.dt_s = 2e-5; }, "dt_s:", "precision of the fixed-point scalar"},
+      {[](OscillatorParams& p) { p.input_range_m_per_s2 = 1e5; }, "input_range_m_per_s2:",
+       "input force m*a_u"},
+      {[](OscillatorParams& p) { p.displacement_range_m = 300.0; }, "displacement_range_m:",
+       "spring force"},
+      {[](OscillatorParams& p) { p.input_range_m_per_s2 = -1.0; }, "input_range_m_per_s2:", "> 0"},
+      {[](OscillatorParams& p) { p.model = FrictionModel::stribeck; }, "model:", "exp"},
+      {[](OscillatorParams& p) { p.integrator = Integrator::rk4; }, "integrator:", "rk4"},
+  };
+  for (const Case& c : cases) {
+    OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::exact, 1e-3);
+    p.kinetic_friction_n = p.static_friction_n = 45.0;
+    c.change(p);
+    ConfigResult result;
+    if (p.model == FrictionModel::stribeck) {
+      // (An Oscillator<Fixed, StribeckStickSlip> does not compile: no exp.)
+      DiscreteModel model;
+      CHECK(discretise(p, model).ok());
+      result = check_fixed_point_scene(p, model, Fixed::kIntegerBits, Fixed::kFractionBits,
+                                       ScalarTraits<Fixed>::kEventTickLevel);
+    } else {
+      Oscillator<Fixed, CoulombStickSlip> seat;
+      result = seat.configure(p);
+    }
+    CHECK_FALSE_TEXT(result.ok(), c.parameter);
+    CHECK_TEXT(starts_with(result.message.c_str(), c.parameter), result.message.c_str());
+    CHECK_TEXT(contains(result.message.c_str(), c.quantity), result.message.c_str());
+  }
+  // The float oscillator ignores the fixed-point ranges.
+  OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::exact, 1e-3);
+  p.input_range_m_per_s2 = -1.0;
+  Oscillator<double, CoulombStickSlip> seat;
+  CHECK(seat.configure(p).ok());
+}
+
+namespace {
+
+const char* const kFixedParameters[] = {
+    "mass_kg",          "stiffness_n_per_m",    "damping_ns_per_m",     "kinetic_friction_n",
+    "static_friction_n", "smoothing_constant_s_per_m", "dt_s",         "model",
+    "input_range_m_per_s2", "displacement_range_m", "integrator",  "smoothing"};
+
+bool names_a_parameter(const char* message) {
+  for (const char* name : kFixedParameters) {
+    const std::size_t n = std::strlen(name);
+    if (std::strncmp(message, name, n) == 0 && message[n] == ':') return true;
+  }
+  return false;
+}
+
+struct ExtremeTally {
+  int accepted = 0, refused = 0, failures = 0;
+  SimpleString listed;
+  void fail(const SimpleString& what) {
+    if (failures++ < 10) listed += SimpleString("\n\t  ") + what;
+  }
+};
+
+template <typename Law>
+void run_extreme(const OscillatorParams& p, const std::vector<double>& a_u, ExtremeTally& tally) {
+  Oscillator<Fixed, Law> seat;
+  const ConfigResult result = seat.configure(p);
+  const SimpleString what = StringFromFormat("%s/%s c=%g %s F_fk=%g b=%g dt=%g", model_name(p.model),
+                                             smoothing_name(p.smoothing),
+                                             p.smoothing_constant_s_per_m,
+                                             integrator_name(p.integrator), p.kinetic_friction_n,
+                                             p.damping_ns_per_m, p.dt_s);
+  if (!result.ok()) {
+    ++tally.refused;
+    if (!names_a_parameter(result.message.c_str()))
+      tally.fail(what + ": refusal names no parameter: " + result.message.c_str());
+    return;
+  }
+  ++tally.accepted;
+  seat.reset(Fixed(0), Fixed(0), Fixed(a_u[0]));
+  bool bounded = true;
+  for (std::size_t n = 1; n < a_u.size(); ++n) {
+    const auto out = seat.step(Fixed(a_u[n]));
+    if (!(ScalarTraits<Fixed>::abs(out.x_r_m) <= Fixed(1))) bounded = false;
+    if (out.stuck_fraction < Fixed(0) || out.stuck_fraction > Fixed(1)) bounded = false;
+  }
+  if (seat.saturated_steps() != 0) tally.fail(what + ": saturated");
+  if (!bounded) tally.fail(what + ": |x_r| beyond 1 m or stuck fraction outside [0, 1]");
+}
+
+}  // namespace
+
+// The extremes of the Foundation grid (K 0..100, damping ratio 0..2, c up to 1e6, dt 1e-5..0.05)
+// for every law and integrator fixed point offers: refused by name, or run without saturation and
+// bounded (the fixed-point form of "no NaN-equivalent garbage").
+TEST(FixedPointOscillator, ExtremesAreRefusedByNameOrRunWithoutSaturation) {
+  const auto signal = test::make_lorry_signal(7, 0.35);
+  const double critical = 2.0 * std::sqrt(test::kStiffnessNPerM * test::kMassKg);
+  ExtremeTally tally;
+  for (double dt : {1e-5, 1e-4, 1e-3, 1e-2, 0.05}) {
+    const auto a_u = signal.sample(dt, 600);
+    for (double k_factor : {0.0, 0.5, 3.0, 100.0}) {
+      for (double zeta : {0.0, 0.25, 2.0}) {
+        for (Integrator integrator : {Integrator::euler, Integrator::symplectic, Integrator::exact}) {
+          OscillatorParams p = test::reference_params(FrictionModel::linear, integrator, dt,
+                                                      zeta * critical);
+          p.kinetic_friction_n = test::kinetic_friction_for_den_hartog(k_factor, test::kMassKg, 0.35);
+          p.static_friction_n = 1.25 * p.kinetic_friction_n;
+          run_extreme<NoFriction>(p, a_u, tally);
+          p.model = FrictionModel::signum;
+          run_extreme<SignumFriction>(p, a_u, tally);
+          p.model = FrictionModel::stick_slip;
+          run_extreme<CoulombStickSlip>(p, a_u, tally);
+          p.model = FrictionModel::smooth;
+          p.smoothing = SmoothingLaw::rational;
+          for (double c : {1.0, 1e3, 1e6}) {
+            p.smoothing_constant_s_per_m = c;
+            run_extreme<SmoothFriction<SmoothingLaw::rational>>(p, a_u, tally);
+          }
+        }
+      }
+    }
+  }
+  CHECK_TEXT(tally.failures == 0, StringFromFormat("%d failing scenes:%s", tally.failures,
+                                                   tally.listed.asCharString()).asCharString());
+  CHECK(tally.accepted > 100);
+  CHECK(tally.refused > 0);
+  test::note_margin("fixed grid scenes accepted", tally.accepted, 0.0);
+  test::note_margin("fixed grid scenes refused", tally.refused, 0.0);
+}

@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Configures and builds the cross presets cortex-m4f and cortex-m0plus in BUILD_ROOT/<preset>
+# (default: build/embedded-check), then checks every ELF they make:
+#   - no heap and no C++ runtime: no malloc/free/calloc/realloc/_sbrk, operator new/delete,
+#     __cxa_* (exceptions, guards, atexit), unwinder or personality routine in the symbol table;
+#   - the ABI the preset asks for: Cortex-M4F passes floats in FPU registers, Cortex-M0+ is
+#     ARMv6-M.
+# Exit status 0 when everything builds and passes. Used by CTest (label embedded).
+set -euo pipefail
+
+source_dir=$(cd "$(dirname "$0")/.." && pwd)
+build_root=${1:-$source_dir/build/embedded-check}
+jobs=${STICKSLIP_JOBS:-2}
+
+for tool in arm-none-eabi-g++ arm-none-eabi-nm arm-none-eabi-readelf; do
+  if ! command -v "$tool" >/dev/null 2>&1; then
+    echo "check-embedded: $tool not found; run tools/install-deps.sh (gcc-arm-none-eabi, libnewlib-arm-none-eabi, libstdc++-arm-none-eabi-newlib)" >&2
+    exit 1
+  fi
+done
+
+forbidden='^(malloc|free|calloc|realloc|reallocf|memalign|_malloc_r|_free_r|_calloc_r|_realloc_r|_sbrk|_sbrk_r|_Znw.*|_Zna.*|_Zdl.*|_Zda.*|__cxa_.*|__gxx_personality.*|_Unwind_.*|__aeabi_unwind_cpp_pr.*)$'
+mkdir -p "$build_root"
+status=0
+for preset in cortex-m4f cortex-m0plus; do
+  dir=$build_root/$preset
+  (cd "$source_dir" && cmake --preset "$preset" -B "$dir" >"$build_root/$preset.configure.log" 2>&1) || {
+    cat "$build_root/$preset.configure.log" >&2
+    echo "check-embedded: $preset: configure failed" >&2
+    exit 1
+  }
+  cmake --build "$dir" -j "$jobs" >"$build_root/$preset.build.log" 2>&1 || {
+    cat "$build_root/$preset.build.log" >&2
+    echo "check-embedded: $preset: build failed" >&2
+    exit 1
+  }
+  mapfile -t elves < <(find "$dir" -name '*.elf' -type f | sort)
+  if [ ${#elves[@]} -eq 0 ]; then
+    echo "check-embedded: $preset: no ELF built" >&2
+    exit 1
+  fi
+  for elf in "${elves[@]}"; do
+    name=${elf#"$build_root"/}
+    hits=$(arm-none-eabi-nm "$elf" | awk '{print $NF}' | grep -E "$forbidden" || true)
+    if [ -n "$hits" ]; then
+      echo "check-embedded: $name links heap or C++ runtime symbols:" $hits >&2
+      status=1
+    else
+      echo "check-embedded: $name: no heap, no C++ runtime symbols"
+    fi
+    attributes=$(arm-none-eabi-readelf -A "$elf")
+    case $preset in
+      cortex-m4f) expected='Tag_ABI_VFP_args: VFP registers' ;;
+      cortex-m0plus) expected='Tag_CPU_arch: v6S-M' ;;
+    esac
+    if ! grep -q "$expected" <<<"$attributes"; then
+      echo "check-embedded: $name: expected '$expected' in its build attributes" >&2
+      status=1
+    fi
+  done
+done
+exit $status

@@ -3,13 +3,16 @@
 # available); prints what it does and fails clearly when it cannot install.
 #   tools/install-deps.sh            build and test dependencies
 #   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind)
+#   tools/install-deps.sh --figures  also what tools/paper-figures.sh needs (gnuplot)
 set -euo pipefail
 
-packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev)
+packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev
+          libmatio-dev pkg-config parallel)
 for group in "$@"; do
   case "$group" in
     --report) packages+=(gnuplot-nox valgrind) ;;
-    *) echo "install-deps: unknown group '$group' (known: --report)" >&2; exit 2 ;;
+    --figures) packages+=(gnuplot-nox) ;;
+    *) echo "install-deps: unknown group '$group' (known: --report, --figures)" >&2; exit 2 ;;
   esac
 done
 

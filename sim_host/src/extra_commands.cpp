@@ -12,6 +12,7 @@
 #include "stickslip/host/harmonic_balance.hpp"
 #include "stickslip/host/mat_file.hpp"
 #include "stickslip/host/output_file.hpp"
+#include "stickslip/host/seat_test_spectra.hpp"
 #include "stickslip/host/sweep.hpp"
 #include "stickslip/host/welch.hpp"
 
@@ -33,6 +34,7 @@ struct ExtraCommandOptions {
   // psd
   std::string psd_input, psd_output;
   std::size_t psd_segment = 4096;
+  std::string psd_target;
   // harmonic-balance
   HarmonicBalanceSweepRequest hb;
   std::string hb_output;
@@ -125,6 +127,8 @@ void ExtraCommands::add_to(CLI::App& app) {
   psd->add_option("--input", o.psd_input, "recording (CSV t,a_u or .mat)")->required();
   psd->add_option("--segment", o.psd_segment, "samples per segment, a power of two")
       ->capture_default_str();
+  psd->add_option("--target", o.psd_target,
+                  "also a column `target`: the PSD of this seat-test class (EM1..AG3)");
   psd->add_option("--output", o.psd_output, "CSV file to write")->required();
 
   CLI::App* hb = app.add_subcommand(
@@ -193,15 +197,27 @@ bool ExtraCommands::run(CLI::App& app, std::ostream& out, std::ostream& err, int
     return true;
   }
   if (app.got_subcommand("psd")) {
+    const TargetSpectrum* target = nullptr;
+    if (!o.psd_target.empty()) {
+      target = find_seat_test_spectrum(o.psd_target);
+      if (target == nullptr) {
+        throw UsageError("--target: unknown class '" + o.psd_target + "' (expected one of " +
+                         spectrum_kind_names() + " except white)");
+      }
+    }
     const SampledSignal signal = read_signal_file(o.psd_input);
     const Spectrum spectrum = welch_psd(signal.a_u_m_per_s2, signal.dt_s, o.psd_segment);
     AtomicOutputFile file(o.psd_output);
     CsvWriter writer(file);
-    writer.text("f_hz,psd\n");
+    writer.text(target ? "f_hz,psd,target\n" : "f_hz,psd\n");
     for (std::size_t k = 0; k < spectrum.psd.size(); ++k) {
       writer.number(spectrum.frequency_hz[k]);
       writer.separator();
       writer.number(spectrum.psd[k]);
+      if (target) {
+        writer.separator();
+        writer.number(target_psd(*target, spectrum.frequency_hz[k]));
+      }
       writer.end_row();
     }
     writer.flush();

@@ -326,3 +326,44 @@ TEST(MatFile, MissingVariablesAreNamed) {
   LONGS_EQUAL(1, junk.status);
   STRCMP_CONTAINS("junk.mat", junk.err.c_str());
 }
+
+TEST_GROUP(Psd) {};
+
+// stickslip psd: a sine's power sits at its frequency, and the PSD integrates to the variance
+// (Parseval, Hann window with its power normalisation).
+TEST(Psd, SineIsAtItsFrequencyAndThePsdIntegratesToTheVariance) {
+  TempDir dir;
+  const std::size_t n = 40001;
+  std::string csv = "t,a_u\n";
+  char line[80];
+  double variance = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) * 0.005;
+    const double a = 0.7 * std::sin(2.0 * kPi * 12.5 * t);
+    variance += a * a;
+    std::snprintf(line, sizeof line, "%.17g,%.17g\n", t, a);
+    csv += line;
+  }
+  variance /= static_cast<double>(n);
+  stickslip::test::write_text(dir.file("sine.csv"), csv);
+  const CliRun run = run_stickslip({"psd", "--input", dir.file("sine.csv"), "--segment", "2048",
+                                    "--target", "EM6", "--output", dir.file("psd.csv")});
+  LONGS_EQUAL(0, run.status);
+  const stickslip::test::Table table = stickslip::test::read_table(dir.file("psd.csv"));
+  CHECK_TRUE(table.ok);
+  LONGS_EQUAL(1025, table.rows.size());
+  STRCMP_EQUAL("target", table.header[2].c_str());
+  double integral = 0.0, best = 0.0, best_f = 0.0;
+  const double df = table.rows[1][0];
+  DOUBLES_EQUAL(1.0 / (2048 * 0.005), df, 1e-12);
+  for (const auto& row : table.rows) {
+    integral += row[1] * df;
+    if (row[1] > best) {
+      best = row[1];
+      best_f = row[0];
+    }
+    DOUBLES_EQUAL(target_psd(*find_seat_test_spectrum("EM6"), row[0]), row[2], 1e-15);
+  }
+  DOUBLES_EQUAL(12.5, best_f, df);
+  DOUBLES_EQUAL(variance, integral, 0.01 * variance);
+}

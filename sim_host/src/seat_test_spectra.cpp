@@ -206,11 +206,15 @@ std::vector<double> generate_spectrum_signal(const SpectrumSignalSpec& spec) {
   std::vector<double> out(count);
   for (double& value : out) value = next();
   if (spec.rms_m_per_s2 > 0.0) {
-    long double sum_of_squares = 0.0L;
-    for (double value : out)
-      sum_of_squares += static_cast<long double>(value) * static_cast<long double>(value);
-    const double raw_rms =
-        std::sqrt(static_cast<double>(sum_of_squares / static_cast<long double>(count)));
+    // Neumaier-compensated double sum (not long double, whose width differs between machines).
+    double sum = 0.0, compensation = 0.0;
+    for (double value : out) {
+      const double term = value * value;
+      const double total = sum + term;
+      compensation += std::fabs(sum) >= std::fabs(term) ? (sum - total) + term : (term - total) + sum;
+      sum = total;
+    }
+    const double raw_rms = std::sqrt((sum + compensation) / static_cast<double>(count));
     if (!(raw_rms > 0.0)) throw UsageError(spec.spectrum.name + ": the signal is identically zero");
     const double scale = spec.rms_m_per_s2 / raw_rms;
     for (double& value : out) value *= scale;

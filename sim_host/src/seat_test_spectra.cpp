@@ -176,73 +176,101 @@ double requested_rms(const SpectrumSignalSpec& spec) {
   return spec.rms_m_per_s2 > 0.0 ? spec.rms_m_per_s2 : target_rms(spec.spectrum, 0.5 / spec.dt_s);
 }
 
+namespace {
+
+// The unscaled signal, sample by sample (n = 0, 1, ...), after the warm-up.
+class SpectrumStream {
+ public:
+  explicit SpectrumStream(const SpectrumSignalSpec& spec) : noise_(spec.seed, kNoiseStream) {
+    const double dt = spec.dt_s;
+    double lowest_hz = 0.5 / dt;
+    for (const FilterSection& s : spec.spectrum.sections) {
+      lowest_hz = std::fmin(lowest_hz, s.frequency_hz);
+      switch (s.kind) {
+        case SectionKind::highpass:
+          filter_[count_++] = design_highpass(s.frequency_hz, s.quality, dt);
+          break;
+        case SectionKind::lowpass:
+          filter_[count_++] = design_lowpass(s.frequency_hz, s.quality, dt);
+          break;
+        case SectionKind::lowpass_first_order:
+          filter_[count_++] = design_first_order_lowpass(s.frequency_hz, dt);
+          break;
+      }
+    }
+    // Warm-up: the slowest pole (about the lowest corner, Q up to 2.6) decays to 1e-16 well
+    // within 30 s + 40 cycles of the lowest corner.
+    const auto warm_up = static_cast<std::uint64_t>(std::llround((30.0 + 40.0 / lowest_hz) / dt));
+    for (std::uint64_t n = 0; n < warm_up; ++n) next();
+  }
+  double next() noexcept {
+    double x = noise_.next();
+    for (std::size_t i = 0; i < count_; ++i) x = filter_[i].process(x);
+    return x;
+  }
+
+ private:
+  GaussianSource noise_;
+  std::array<Biquad, FilterSections::kMaxSections> filter_{};
+  std::size_t count_ = 0;
+};
+
+// The factor applied to the stream: to the requested RMS (a first pass over the same stream
+// measures it; Neumaier-compensated double sum, not long double, whose width differs between
+// machines), or to the standard's level: white noise of one-sided PSD 2 sigma^2 dt = gmax, so
+// that the filtered signal's PSD is gmax |H|^2 in expectation at every frequency. (Scaling to the
+// analog RMS instead would lift the whole band by the tail power the bilinear transform removes
+// near Nyquist: +11 % for EM6 at dt = 10 ms.)
+double stream_scale(const SpectrumSignalSpec& spec, std::uint64_t count) {
+  if (!(spec.rms_m_per_s2 > 0.0)) return std::sqrt(spec.spectrum.gmax / (2.0 * spec.dt_s));
+  SpectrumStream stream(spec);
+  double sum = 0.0, compensation = 0.0;
+  for (std::uint64_t n = 0; n < count; ++n) {
+    const double value = stream.next();
+    const double term = value * value;
+    const double total = sum + term;
+    compensation += std::fabs(sum) >= std::fabs(term) ? (sum - total) + term : (term - total) + sum;
+    sum = total;
+  }
+  const double raw_rms = std::sqrt((sum + compensation) / static_cast<double>(count));
+  if (!(raw_rms > 0.0)) throw UsageError(spec.spectrum.name + ": the signal is identically zero");
+  return spec.rms_m_per_s2 / raw_rms;
+}
+
+std::uint64_t spectrum_sample_count(const SpectrumSignalSpec& spec) {
+  return static_cast<std::uint64_t>(std::llround(spec.duration_s / spec.dt_s)) + 1;
+}
+
+}  // namespace
+
 std::vector<double> generate_spectrum_signal(const SpectrumSignalSpec& spec) {
   validate(spec);
-  const double dt = spec.dt_s;
-  std::vector<Biquad> filter;
-  double lowest_hz = 0.5 / dt;
-  for (const FilterSection& s : spec.spectrum.sections) {
-    lowest_hz = std::fmin(lowest_hz, s.frequency_hz);
-    switch (s.kind) {
-      case SectionKind::highpass: filter.push_back(design_highpass(s.frequency_hz, s.quality, dt)); break;
-      case SectionKind::lowpass: filter.push_back(design_lowpass(s.frequency_hz, s.quality, dt)); break;
-      case SectionKind::lowpass_first_order:
-        filter.push_back(design_first_order_lowpass(s.frequency_hz, dt));
-        break;
-    }
-  }
-  GaussianSource noise(spec.seed, kNoiseStream);
-  const auto next = [&] {
-    double x = noise.next();
-    for (Biquad& section : filter) x = section.process(x);
-    return x;
-  };
-  // Warm-up: the slowest pole (about the lowest corner, Q up to 2.6) decays to 1e-16 well within
-  // 30 s + 40 cycles of the lowest corner.
-  const auto warm_up = static_cast<std::uint64_t>(std::llround((30.0 + 40.0 / lowest_hz) / dt));
-  for (std::uint64_t n = 0; n < warm_up; ++n) next();
-
-  const auto count = static_cast<std::size_t>(std::llround(spec.duration_s / dt)) + 1;
-  std::vector<double> out(count);
-  for (double& value : out) value = next();
-  if (spec.rms_m_per_s2 > 0.0) {
-    // Neumaier-compensated double sum (not long double, whose width differs between machines).
-    double sum = 0.0, compensation = 0.0;
-    for (double value : out) {
-      const double term = value * value;
-      const double total = sum + term;
-      compensation += std::fabs(sum) >= std::fabs(term) ? (sum - total) + term : (term - total) + sum;
-      sum = total;
-    }
-    const double raw_rms = std::sqrt((sum + compensation) / static_cast<double>(count));
-    if (!(raw_rms > 0.0)) throw UsageError(spec.spectrum.name + ": the signal is identically zero");
-    const double scale = spec.rms_m_per_s2 / raw_rms;
-    for (double& value : out) value *= scale;
-  } else {
-    // The standard's level: white noise of one-sided PSD 2 sigma^2 dt = gmax, so that the
-    // filtered signal's PSD is gmax |H|^2 in expectation at every frequency. (Scaling to the
-    // analog RMS instead would lift the whole band by the tail power the bilinear transform
-    // removes near Nyquist: +11 % for EM6 at dt = 10 ms.)
-    const double scale = std::sqrt(spec.spectrum.gmax / (2.0 * dt));
-    for (double& value : out) value *= scale;
-  }
+  const std::uint64_t count = spectrum_sample_count(spec);
+  const double scale = stream_scale(spec, count);
+  SpectrumStream stream(spec);
+  std::vector<double> out(static_cast<std::size_t>(count));
+  for (double& value : out) value = scale * stream.next();
   return out;
 }
 
+// Streams: constant memory for any length (two passes with --rms).
 std::uint64_t write_spectrum_csv(const SpectrumSignalSpec& spec, const std::string& path) {
-  const std::vector<double> a_u = generate_spectrum_signal(spec);
+  validate(spec);
+  const std::uint64_t count = spectrum_sample_count(spec);
+  const double scale = stream_scale(spec, count);
   AtomicOutputFile file(path);
   CsvWriter writer(file);
   writer.text("t,a_u\n");
-  for (std::size_t n = 0; n < a_u.size(); ++n) {
+  SpectrumStream stream(spec);
+  for (std::uint64_t n = 0; n < count; ++n) {
     writer.number(static_cast<double>(n) * spec.dt_s);
     writer.separator();
-    writer.number(a_u[n]);
+    writer.number(scale * stream.next());
     writer.end_row();
   }
   writer.flush();
   file.commit();
-  return a_u.size();
+  return count;
 }
 
 std::string spectrum_kind_names() {

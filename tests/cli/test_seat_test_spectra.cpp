@@ -230,6 +230,13 @@ TEST(SeatTestSpectra, GenerateCommandIsDeterministicAndUsesTheStandardLevel) {
   CHECK_TRUE(a == stickslip::test::read_text(dir.file("b.csv")));
   CHECK_FALSE(a == stickslip::test::read_text(dir.file("c.csv")));
   const std::vector<double> values = read_signal_csv(dir.file("a.csv")).a_u_m_per_s2;
+  // The streamed file holds exactly the in-memory signal.
+  SpectrumSignalSpec spec;
+  spec.spectrum = *find_seat_test_spectrum("EM6");
+  spec.duration_s = 600.0;
+  spec.dt_s = 0.001;
+  spec.seed = 3;
+  CHECK_TRUE(generate_spectrum_signal(spec) == values);
   double sum = 0.0;
   for (double v : values) sum += v * v;
   const double rms = std::sqrt(sum / static_cast<double>(values.size()));

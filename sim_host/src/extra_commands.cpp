@@ -180,7 +180,10 @@ bool ExtraCommands::run(CLI::App& app, std::ostream& out, std::ostream& err, int
     } else {
       throw UsageError("--vary: expected friction or excitation, got '" + o.vary + "'");
     }
-    if (!o.shard.empty()) parse_shard(o.shard, request);
+    if (!o.shard.empty()) {
+      parse_shard(o.shard, request);
+      request.shard_file = true;
+    }
     request.batch = !o.no_batch;
     const SweepProgress progress =
         o.quiet ? SweepProgress() : make_progress_reporter(err, stderr_is_terminal(err));

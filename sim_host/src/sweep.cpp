@@ -428,7 +428,7 @@ SweepSummary run_sweep(const SweepRequest& request, const std::string& output_pa
   SweepSummary summary;
   const std::vector<SweepRow> rows = execute(request, prepared, summary, progress);
   CsvWriter writer(file);
-  if (request.shard_count > 1) {
+  if (request.shard_count > 1 || request.shard_file) {
     writer.text(fmt::format("{}{}/{} points {} config {:016x}\n", kShardTag, request.shard_index,
                             request.shard_count, prepared.points.size(), prepared.config_hash));
   }

@@ -148,6 +148,14 @@ TEST(Sweep, ShardsMergeIntoTheSingleRunByteForByte) {
                                        reversed[4], "--output", dir.file("merged.csv")});
   LONGS_EQUAL(0, merged.status);
   CHECK_TRUE(read_text(dir.file("single.csv")) == read_text(dir.file("merged.csv")));
+  // One shard of one (--shard 1/1) merges too.
+  const CliRun whole = run_stickslip({"sweep", "--input", wideband, "--input", lorry, "--method",
+                                      "signum:euler,stick-slip:exact,stick-slip:rk4", "--damping",
+                                      "504,200", "--k", "0,0.3,0.6,0.9,1.2,1.5", "--shard", "1/1",
+                                      "--quiet", "--output", dir.file("one.csv")});
+  LONGS_EQUAL(0, whole.status);
+  LONGS_EQUAL(0, run_stickslip({"merge", dir.file("one.csv"), "--output", dir.file("one-merged.csv")}).status);
+  CHECK_TRUE(read_text(dir.file("single.csv")) == read_text(dir.file("one-merged.csv")));
 
   // Missing shard, a shard twice, a shard of another sweep, a duplicated row: refused, no file.
   const auto merge = [&](const std::vector<std::string>& files) {

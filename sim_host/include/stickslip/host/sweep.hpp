@@ -45,6 +45,7 @@ struct SweepRequest {
   unsigned threads = 0;               // 0: std::thread::hardware_concurrency()
   unsigned shard_index = 1;           // 1-based
   unsigned shard_count = 1;
+  bool shard_file = false;            // write the shard line even for 1/1 (`--shard` given)
   bool batch = true;                  // stick-slip points through StickSlipBatch
 };
 

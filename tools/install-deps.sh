@@ -4,14 +4,17 @@
 #   tools/install-deps.sh            build and test dependencies (the arm-none-eabi cross toolchain too)
 #   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind,
 #                                    python3 and qemu-system-arm for tools/embedded-report.sh)
+#   tools/install-deps.sh --figures  also what tools/paper-figures.sh needs (gnuplot)
 set -euo pipefail
 
-packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev libtomlplusplus-dev
+packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev
+          libtomlplusplus-dev libmatio-dev pkg-config parallel
           gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib)
 for group in "$@"; do
   case "$group" in
     --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm) ;;
-    *) echo "install-deps: unknown group '$group' (known: --report)" >&2; exit 2 ;;
+    --figures) packages+=(gnuplot-nox) ;;
+    *) echo "install-deps: unknown group '$group' (known: --report, --figures)" >&2; exit 2 ;;
   esac
 done
 

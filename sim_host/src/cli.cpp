@@ -1,5 +1,6 @@
 #include "stickslip/host/cli.hpp"
 
+#include <cmath>
 #include <exception>
 #include <new>
 #include <ostream>
@@ -7,8 +8,10 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "extra_commands.hpp"
 #include "stickslip/host/commands.hpp"
 #include "stickslip/host/error.hpp"
+#include "stickslip/host/seat_test_spectra.hpp"
 #include "stickslip/host/signal_generator.hpp"
 
 namespace stickslip::host {
@@ -20,6 +23,8 @@ struct Options {
   std::string kind;
   GeneratorSpec generator;
   std::string generate_output;
+  double band_low_hz = 0.5;  // white
+  double band_high_hz = 20.0;
   // simulate
   SimulateRequest simulate;
   std::string model;
@@ -35,9 +40,18 @@ void add_generate(CLI::App& app, Options& o) {
       "generate",
       "Write a synthetic cab-floor acceleration a_u(t) as CSV (t,a_u): the same file for "
       "the same options on every machine");
-  generate->add_option("--kind", o.kind, "wideband | lorry | harmonic")->required();
-  generate->add_option("--rms", o.generator.rms_m_per_s2, "RMS of a_u over the file, m/s^2")
+  generate
+      ->add_option("--kind", o.kind,
+                   "wideband | lorry | harmonic | white | a seat-test spectrum: " +
+                       spectrum_kind_names())
       ->required();
+  generate->add_option("--rms", o.generator.rms_m_per_s2,
+                       "RMS of a_u over the file, m/s^2 (seat-test spectra: default the "
+                       "standard's level)");
+  generate->add_option("--band-low", o.band_low_hz, "white: lower corner, Hz (0: none)")
+      ->capture_default_str();
+  generate->add_option("--band-high", o.band_high_hz, "white: upper corner, Hz")
+      ->capture_default_str();
   generate->add_option("--duration", o.generator.duration_s, "s; samples n = 0..round(duration/dt)")
       ->required();
   generate->add_option("--dt", o.generator.dt_s, "sample interval, s")->required();
@@ -111,11 +125,47 @@ void add_demo(CLI::App& app, Options& o) {
       "where the files go (default: a fresh directory under the system temp directory)");
 }
 
-int run_generate(const Options& o, std::ostream& out) {
+// Seat-test spectra and white noise (seat_test_spectra.hpp); false for the other kinds.
+bool run_spectrum_generate(CLI::App& generate, const Options& o, std::ostream& out) {
+  SpectrumSignalSpec spec;
+  if (const TargetSpectrum* table = find_seat_test_spectrum(o.kind)) {
+    spec.spectrum = *table;
+  } else if (o.kind == "white") {
+    if (generate.get_option("--rms")->count() == 0) throw UsageError("--rms is required for white");
+    if (!std::isfinite(o.band_low_hz) || !(o.band_low_hz >= 0.0) ||
+        !std::isfinite(o.band_high_hz) || !(o.band_high_hz > o.band_low_hz)) {
+      throw UsageError(fmt::format("--band-low/--band-high: need 0 <= low < high, got {} and {}",
+                                   o.band_low_hz, o.band_high_hz));
+    }
+    spec.spectrum = white_noise_spectrum(o.band_low_hz, o.band_high_hz, 1.0);
+  } else {
+    return false;
+  }
+  spec.rms_m_per_s2 = generate.get_option("--rms")->count() == 0 ? 0.0 : o.generator.rms_m_per_s2;
+  if (generate.get_option("--rms")->count() != 0 && !(spec.rms_m_per_s2 > 0.0)) {
+    throw UsageError(fmt::format("--rms: must be a finite number > 0, got {}", spec.rms_m_per_s2));
+  }
+  spec.duration_s = o.generator.duration_s;
+  spec.dt_s = o.generator.dt_s;
+  spec.seed = o.generator.seed;
+  validate(spec);
+  const double rms = requested_rms(spec);
+  const std::uint64_t rows = write_spectrum_csv(spec, o.generate_output);
+  out << fmt::format("wrote {}: {} {} samples, dt = {} s, {} {} m/s^2, seed {}\n",
+                     o.generate_output, rows, spec.spectrum.name, spec.dt_s,
+                     spec.rms_m_per_s2 > 0.0 ? "rms" : "the standard's PSD, expected rms", rms,
+                     spec.seed);
+  return true;
+}
+
+int run_generate(CLI::App& generate, const Options& o, std::ostream& out) {
+  if (run_spectrum_generate(generate, o, out)) return kExitOk;
+  if (generate.get_option("--rms")->count() == 0) throw UsageError("--rms is required");
   GeneratorSpec spec = o.generator;
   if (!parse_signal_kind(o.kind, spec.kind)) {
     throw UsageError("--kind: unknown kind '" + o.kind +
-                     "' (expected wideband, lorry or harmonic)");
+                     "' (expected wideband, lorry, harmonic or one of " +
+                     spectrum_kind_names() + ")");
   }
   const std::uint64_t rows = write_generated_csv(spec, o.generate_output);
   out << fmt::format("wrote {}: {} {} samples, dt = {} s, rms {} m/s^2{}\n", o.generate_output,
@@ -176,12 +226,15 @@ int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {
     add_generate(app, options);
     add_simulate(app, options);
     add_demo(app, options);
+    ExtraCommands extra;  // sweep, merge, psd, harmonic-balance, advise
+    extra.add_to(app);
     // CLI11 would only say "A subcommand is required" for a misspelt one.
     const std::string first = argc >= 2 ? argv[1] : "";
     if (!first.empty() && first[0] != '-' && first != "generate" && first != "simulate" &&
-        first != "demo") {
+        first != "demo" && !ExtraCommands::is_name(first)) {
       throw UsageError(std::string("unknown subcommand '") + argv[1] +
-                       "' (expected generate, simulate or demo; see stickslip --help)");
+                       "' (expected generate, simulate, demo, " + ExtraCommands::names() +
+                       "; see stickslip --help)");
     }
     try {
       app.parse(argc, argv);
@@ -193,7 +246,9 @@ int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {
       err << "stickslip: " << one_line(error.what()) << "\n";
       return kExitUsage;
     }
-    if (app.got_subcommand("generate")) return run_generate(options, out);
+    if (int status = 0; extra.run(app, out, err, status)) return status;
+    if (app.got_subcommand("generate"))
+      return run_generate(*app.get_subcommand("generate"), options, out);
     if (app.got_subcommand("simulate"))
       return run_simulate(*app.get_subcommand("simulate"), options, out);
     run_demo(options.demo, out);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "stickslip/host/csv_reader.hpp"
+#include "stickslip/host/mat_file.hpp"
 #include "stickslip/host/output_file.hpp"
 #include "stickslip/host/signal_generator.hpp"
 #include "stickslip/host/stats_json.hpp"
@@ -135,7 +136,7 @@ SimulateResult simulate_file(const SimulateRequest& request) {
       throw UsageError("--stats and --output name the same file: " + request.output_path);
     }
   }
-  const SampledSignal signal = read_signal_csv(request.input_path);
+  const SampledSignal signal = read_signal_file(request.input_path);  // CSV or .mat
   SimulationSetup setup = request.setup;
   setup.params.dt_s = signal.dt_s;
 

@@ -1,100 +1,106 @@
-// Den Hartog's harmonic balance: exact in its limits, close to the simulated steady state while the
-// seat keeps slipping (small K), and declared invalid from K = 1 on, where the seat sticks.
+// Den Hartog's harmonic balance (harmonic_balance.hpp) against closed forms and the simulated
+// steady state: exact in the linear limit, close for small K, invalid from K = 1.
 #include <cmath>
-#include <cstddef>
+#include <string>
 
-#include "CppUTest/TestHarness.h"
-#include "stickslip/friction/laws.hpp"
+#include "cli_test_support.hpp"
 #include "stickslip/host/harmonic_balance.hpp"
-#include "stickslip/models/oscillator.hpp"
+// Last: CppUTest redefines `new` for its leak detection.
+#include "CppUTest/TestHarness.h"
 
 using namespace stickslip;
-using stickslip::host::harmonic_balance;
-using stickslip::host::HarmonicBalance;
+using namespace stickslip::host;
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMass = 88.4, kStiffness = 11500.0;
+constexpr double kAmplitude = 0.35 * 1.4142135623730951;  // a0u = 0.35 m/s^2
 
-struct SteadyState {
-  double amplitude_m;
-  double stuck_share;
-};
-
-// Exact stick-slip simulation of a_u = A sin(w t) for 40 s; amplitude of x_r over the last 10 s.
-SteadyState simulate(double damping, double friction_n, double amplitude, double frequency_hz) {
-  OscillatorParams p;
-  p.mass_kg = kMass;
-  p.stiffness_n_per_m = kStiffness;
+OscillatorParams seat(double damping, double k_value, double amplitude = kAmplitude) {
+  OscillatorParams p;  // m = 88.4 kg, k = 11.5 kN/m
   p.damping_ns_per_m = damping;
-  p.kinetic_friction_n = p.static_friction_n = friction_n;
+  p.kinetic_friction_n = p.static_friction_n = k_value * kPi * p.mass_kg * amplitude / 4.0;
   p.model = FrictionModel::stick_slip;
   p.integrator = Integrator::exact;
   p.dt_s = 1e-3;
-  Oscillator<double, CoulombStickSlip> seat;
-  CHECK_TRUE(seat.configure(p).ok());
-  seat.reset(0.0, 0.0, 0.0);
-  double low = 0.0, high = 0.0, stuck = 0.0;
-  const std::size_t steps = 40000, settled = 30000;
-  for (std::size_t n = 1; n <= steps; ++n) {
-    const double t = static_cast<double>(n) * p.dt_s;
-    const StepOutput<double> out = seat.step(amplitude * std::sin(2 * kPi * frequency_hz * t));
-    if (n > settled) {
-      low = std::fmin(low, out.x_r_m);
-      high = std::fmax(high, out.x_r_m);
-      stuck += out.stuck_fraction;
-    }
-  }
-  return {(high - low) / 2, stuck / static_cast<double>(steps - settled)};
+  return p;
 }
-
-double friction_for_k(double k, double amplitude) { return k * kPi * kMass * amplitude / 4.0; }
 
 }  // namespace
 
-TEST_GROUP(HarmonicBalance){};
+TEST_GROUP(HarmonicBalance) {};
 
-// Without friction it is the linear frequency response of x_r; without damping, Den Hartog's
-// closed form X = m A sqrt(1 - K^2) / |k - m w^2|.
-TEST(HarmonicBalance, ReducesToTheClosedFormsInItsLimits) {
-  const double a = 0.5, f = 1.3, w = 2 * kPi * f;
-  const HarmonicBalance linear = harmonic_balance(kMass, kStiffness, 504.0, 0.0, a, f);
-  CHECK_TRUE(linear.valid);
-  const double linear_x = kMass * a / std::hypot(kStiffness - kMass * w * w, 504.0 * w);
-  DOUBLES_EQUAL(linear_x, linear.relative_amplitude_m, 1e-15);
-  const double friction = friction_for_k(0.6, a);
-  const HarmonicBalance undamped = harmonic_balance(kMass, kStiffness, 0.0, friction, a, f);
-  CHECK_TRUE(undamped.valid);
-  DOUBLES_EQUAL(0.6, undamped.den_hartog_k, 1e-14);
-  const double closed = kMass * a * std::sqrt(1 - 0.36) / std::fabs(kStiffness - kMass * w * w);
-  DOUBLES_EQUAL(closed, undamped.relative_amplitude_m, 1e-14 * closed);
+TEST(HarmonicBalance, LinearLimitIsTheLinearAmplitudeExactly) {
+  for (double b : {0.0, 100.0, 504.0, 3000.0}) {
+    for (double f : {0.5, 1.5, 2.5, 6.0}) {
+      const OscillatorParams p = seat(b, 0.0);
+      const HarmonicBalance hb = den_hartog_harmonic_balance(p, kAmplitude, f);
+      const double w = 2.0 * kPi * f;
+      const double linear = p.mass_kg * kAmplitude /
+                            std::hypot(p.stiffness_n_per_m - p.mass_kg * w * w, b * w);
+      CHECK_TRUE(hb.valid);
+      DOUBLES_EQUAL(linear, hb.amplitude_m, 1e-15 * linear);
+    }
+  }
+  // ... and the simulated linear steady state.
+  OscillatorParams p = seat(504.0, 0.0);
+  p.model = FrictionModel::linear;
+  const SteadyState sim = simulate_harmonic_steady_state(p, kAmplitude, 1.5, 40.0);
+  const double hb = den_hartog_harmonic_balance(p, kAmplitude, 1.5).amplitude_m;
+  DOUBLES_EQUAL(hb, sim.amplitude_m, 1e-4 * hb);
 }
 
-// While the seat slips all the time (K well below 1) the simulated steady state follows the
-// harmonic balance, which underestimates X more as K grows (measured at 1 Hz, A = 0.5 m/s^2:
-// K = 0.1: -0.5 %; K = 0.3: -2.1 % with b = 504 N s/m, -4.2 % undamped).
-TEST(HarmonicBalance, FollowsTheSimulatedSteadyStateWhileTheSeatSlips) {
-  const double a = 0.5, f = 1.0;
-  for (const double damping : {504.0, 0.0}) {
-    for (const double k : {0.1, 0.3}) {
-      const double friction = friction_for_k(k, a);
-      const HarmonicBalance hb = harmonic_balance(kMass, kStiffness, damping, friction, a, f);
-      const SteadyState sim = simulate(damping, friction, a, f);
-      CHECK_TRUE(hb.valid);
-      DOUBLES_EQUAL(0.0, sim.stuck_share, 1e-3);
-      DOUBLES_EQUAL(hb.relative_amplitude_m, sim.amplitude_m, (k < 0.2 ? 0.01 : 0.05) * sim.amplitude_m);
+TEST(HarmonicBalance, UndampedCaseIsDenHartogsClosedForm) {
+  for (double k_value : {0.1, 0.5, 0.9}) {
+    for (double f : {0.8, 3.0}) {
+      const OscillatorParams p = seat(0.0, k_value);
+      const double w = 2.0 * kPi * f;
+      const double expected = p.mass_kg * kAmplitude /
+                              std::fabs(p.stiffness_n_per_m - p.mass_kg * w * w) *
+                              std::sqrt(1.0 - k_value * k_value);
+      const HarmonicBalance hb = den_hartog_harmonic_balance(p, kAmplitude, f);
+      DOUBLES_EQUAL(k_value, hb.k, 1e-12);
+      DOUBLES_EQUAL(expected, hb.amplitude_m, 1e-12 * expected);
     }
   }
 }
 
-// From K = 1 on the method has no solution, and the simulated seat sticks for part of each cycle.
-TEST(HarmonicBalance, IsInvalidFromKOneOnWhereTheSeatSticks) {
-  const double a = 0.5, f = 1.0;
-  for (const double k : {1.0, 1.5}) {
-    const double friction = friction_for_k(k, a);
-    CHECK_FALSE(harmonic_balance(kMass, kStiffness, 504.0, friction, a, f).valid);
-    CHECK_TRUE(simulate(504.0, friction, a, f).stuck_share > 0.2);
+// With b = 504 N s/m at 1.5 Hz: within 1 % of the simulated steady state up to K = 0.3, the
+// amplitude falls with K, and the error grows as K approaches 1 (the mass starts to stick).
+TEST(HarmonicBalance, AgreesWithSimulationForSmallKAndFailsTowardsKOne) {
+  double previous = 1.0;
+  for (double k_value : {0.05, 0.1, 0.2, 0.3}) {
+    const OscillatorParams p = seat(504.0, k_value);
+    const HarmonicBalance hb = den_hartog_harmonic_balance(p, kAmplitude, 1.5);
+    const SteadyState sim = simulate_harmonic_steady_state(p, kAmplitude, 1.5, 40.0);
+    CHECK_TRUE(hb.valid);
+    DOUBLES_EQUAL(sim.amplitude_m, hb.amplitude_m, 0.01 * sim.amplitude_m);
+    DOUBLES_EQUAL(0.0, sim.stick_probability, 1e-12);
+    CHECK_TRUE(hb.amplitude_m < previous);
+    previous = hb.amplitude_m;
   }
-  CHECK_TRUE(harmonic_balance(kMass, kStiffness, 504.0, friction_for_k(0.95, a), a, f).valid);
+  const OscillatorParams near_one = seat(504.0, 0.9);
+  const HarmonicBalance hb = den_hartog_harmonic_balance(near_one, kAmplitude, 1.5);
+  const SteadyState sim = simulate_harmonic_steady_state(near_one, kAmplitude, 1.5, 40.0);
+  CHECK_TRUE(hb.valid);
+  CHECK_TRUE(std::fabs(hb.amplitude_m / sim.amplitude_m - 1.0) > 0.2);
+  CHECK_TRUE(sim.stick_probability > 0.1);
+  for (double k_value : {1.0, 1.2}) {
+    const OscillatorParams p = seat(504.0, k_value);
+    CHECK_FALSE(den_hartog_harmonic_balance(p, kAmplitude, 1.5).valid);
+    CHECK_TRUE(simulate_harmonic_steady_state(p, kAmplitude, 1.5, 40.0).stick_probability > 0.3);
+  }
+}
+
+TEST(HarmonicBalance, CommandWritesTheComparison) {
+  stickslip::test::TempDir dir;
+  const stickslip::test::CliRun run = stickslip::test::run_stickslip(
+      {"harmonic-balance", "--k-range", "0:1.2:7", "--damping", "504", "--periods", "30",
+       "--output", dir.file("hb.csv")});
+  LONGS_EQUAL(0, run.status);
+  const stickslip::test::Table table = stickslip::test::read_table(dir.file("hb.csv"));
+  CHECK_TRUE(table.ok);
+  LONGS_EQUAL(7, table.rows.size());
+  STRCMP_EQUAL("hb_valid", table.header[3].c_str());
+  for (const auto& row : table.rows) DOUBLES_EQUAL(row[1] < 1.0 ? 1.0 : 0.0, row[3], 0.0);
 }

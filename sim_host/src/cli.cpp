@@ -11,6 +11,7 @@
 #include "extra_commands.hpp"
 #include "stickslip/host/commands.hpp"
 #include "stickslip/host/error.hpp"
+#include "stickslip/host/scene_file.hpp"
 #include "stickslip/host/seat_test_spectra.hpp"
 #include "stickslip/host/signal_generator.hpp"
 
@@ -31,6 +32,7 @@ struct Options {
   std::string integrator;
   std::string smoothing = "tanh";
   std::string scalar = "double";
+  std::string scene_path;
   // demo
   DemoRequest demo;
 };
@@ -74,8 +76,11 @@ void add_simulate(CLI::App& app, Options& o) {
       ->required();
   simulate->add_option("--output", o.simulate.output_path, "CSV file to write")->required();
   simulate->add_option("--stats", o.simulate.stats_path, "also write the statistics JSON here");
-  simulate->add_option("--model", o.model, "linear | signum | smooth | stick-slip | stribeck")
-      ->required();
+  simulate->add_option("--scene", o.scene_path,
+                       "scene file (TOML, docs/scenes/): effects, seat, model, integrator, sample "
+                       "rate; the flags below override it");
+  simulate->add_option("--model", o.model,
+                       "linear | signum | smooth | stick-slip | stribeck (required without --scene)");
   simulate->add_option("--mass", p.mass_kg, "seat mass m, kg")->capture_default_str();
   simulate->add_option("--stiffness", p.stiffness_n_per_m, "spring k, N/m")->capture_default_str();
   simulate->add_option("--damping", p.damping_ns_per_m, "damper b, N s/m")->capture_default_str();
@@ -175,19 +180,51 @@ int run_generate(CLI::App& generate, const Options& o, std::ostream& out) {
   return kExitOk;
 }
 
+// --scene: the file's seat and model, then every flag given on the command line over it.
+void apply_scene(CLI::App& simulate, const Options& o, SimulateRequest& request) {
+  const Scene scene = read_scene_file(o.scene_path);
+  const OscillatorParams& flags = o.simulate.setup.params;
+  OscillatorParams merged = scene.params;
+  const auto given = [&](const char* name) { return simulate.get_option(name)->count() > 0; };
+  if (given("--mass")) merged.mass_kg = flags.mass_kg;
+  if (given("--stiffness")) merged.stiffness_n_per_m = flags.stiffness_n_per_m;
+  if (given("--damping")) merged.damping_ns_per_m = flags.damping_ns_per_m;
+  if (given("--ffk")) merged.kinetic_friction_n = flags.kinetic_friction_n;
+  if (given("--ffs")) merged.static_friction_n = flags.static_friction_n;
+  if (given("--ffk") && !given("--ffs") && !(scene.effects & kStaticFriction)) {
+    merged.static_friction_n = merged.kinetic_friction_n;
+  }
+  if (given("--stribeck-velocity")) merged.stribeck_velocity_m_per_s = flags.stribeck_velocity_m_per_s;
+  if (given("--smoothing-c")) merged.smoothing_constant_s_per_m = flags.smoothing_constant_s_per_m;
+  if (given("--input-range")) merged.input_range_m_per_s2 = flags.input_range_m_per_s2;
+  if (given("--displacement-range")) merged.displacement_range_m = flags.displacement_range_m;
+  request.setup.params = merged;
+  request.setup.effects = scene.effects;
+  request.setup.stops = scene.stops;
+  request.scene_path = o.scene_path;
+  request.scene_dt_s = scene.sample_rate_hz ? 1.0 / *scene.sample_rate_hz : 0.0;
+}
+
 int run_simulate(CLI::App& simulate, Options& o, std::ostream& out) {
   SimulateRequest request = o.simulate;
   OscillatorParams& p = request.setup.params;
-  if (!parse_model(o.model.c_str(), p.model)) {
+  const bool scene = !o.scene_path.empty();
+  if (scene) apply_scene(simulate, o, request);
+  const auto given = [&](const char* name) { return simulate.get_option(name)->count() > 0; };
+  if (!scene && !given("--model")) throw UsageError("--model is required (or give a --scene)");
+  if (scene && !given("--model")) {
+    // the scene's model and integrator stand unless flags change them
+  } else if (!parse_model(o.model.c_str(), p.model)) {
     throw UsageError("--model: unknown model '" + o.model +
                      "' (expected linear, signum, smooth, stick-slip or stribeck)");
   }
-  if (!parse_smoothing(o.smoothing.c_str(), p.smoothing)) {
+  if ((!scene || given("--smoothing")) && !parse_smoothing(o.smoothing.c_str(), p.smoothing)) {
     throw UsageError("--smoothing: unknown form '" + o.smoothing +
                      "' (expected atan, tanh, erf or rational)");
   }
   if (o.integrator.empty()) {
-    p.integrator = default_integrator(p.model);
+    // Without --integrator: the scene's (if it kept its model), else the model's default.
+    if (!scene || given("--model")) p.integrator = default_integrator(p.model);
   } else if (o.integrator == "reference") {
     request.setup.reference = true;  // host-only solver; the core's integrator is not used
     p.integrator = default_integrator(p.model);
@@ -199,7 +236,7 @@ int run_simulate(CLI::App& simulate, Options& o, std::ostream& out) {
   if (!parse_scalar(o.scalar, request.scalar)) {
     throw UsageError("--scalar: unknown scalar '" + o.scalar + "' (expected double, float or fixed)");
   }
-  if (simulate.get_option("--ffs")->count() == 0) p.static_friction_n = p.kinetic_friction_n;
+  if (!scene && !given("--ffs")) p.static_friction_n = p.kinetic_friction_n;
   const SimulateResult result = simulate_file(request);
   out << result.stats_json << "\n";  // the last line of stdout, for tools
   return kExitOk;

@@ -94,6 +94,7 @@ SimulationSummary run_and_write(const SimulationSetup& setup, const SampledSigna
   } catch (const ConfigurationError& error) {
     throw HostError(explain_configuration_error(error.what(), input_path, setup.params.dt_s));
   }
+  add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
   write_trace(writer, signal, trace);
   return summary;
 }
@@ -136,7 +137,17 @@ SimulateResult simulate_file(const SimulateRequest& request) {
       throw UsageError("--stats and --output name the same file: " + request.output_path);
     }
   }
+  if ((request.setup.effects & kEndStops) &&
+      (request.setup.reference || request.scalar == ScalarType::fixed)) {
+    throw UsageError("--scene: end stops run in double or float with the core's exact integrator "
+                     "(not --integrator reference, not --scalar fixed)");
+  }
   const SampledSignal signal = read_signal_file(request.input_path);  // CSV or .mat
+  if (request.scene_dt_s > 0.0 && std::fabs(signal.dt_s - request.scene_dt_s) > 1e-9 * request.scene_dt_s) {
+    throw HostError(fmt::format("{}: dt = {} s, but the scene {} has sample_rate_hz = {} (dt = {} s)",
+                                request.input_path, signal.dt_s, request.scene_path,
+                                1.0 / request.scene_dt_s, request.scene_dt_s));
+  }
   SimulationSetup setup = request.setup;
   setup.params.dt_s = signal.dt_s;
 
@@ -151,6 +162,7 @@ SimulateResult simulate_file(const SimulateRequest& request) {
     SimulationTrace<double> trace;
     try {
       result.summary = simulate_signal_fixed(setup, signal.a_u_m_per_s2, trace);
+      add_ride_comfort(result.summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
     } catch (const ConfigurationError& error) {
       throw HostError(explain_configuration_error(error.what(), request.input_path, setup.params.dt_s));
     }

@@ -8,8 +8,10 @@
 #include "stickslip/core/fixed_point.hpp"
 #include "stickslip/host/reference_solver.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
+#include "stickslip/metrics/ride_comfort.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
+#include "stickslip/models/scene.hpp"
 
 namespace stickslip::host {
 
@@ -234,9 +236,10 @@ SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vecto
   const T x0 = static_cast<T>(setup.x0_m);
   const T v0 = static_cast<T>(setup.v0_m_per_s);
 
-  // The model is chosen once, here, outside the sample loop.
-  return with_oscillator<T>(setup.params, [&](auto& oscillator) {
-    const ConfigResult configured = oscillator.configure(setup.params);
+  // The model is chosen once, here, outside the sample loop: exactly the scene's effects.
+  const SceneParams scene{setup.effects, setup.params, setup.stops};
+  return with_scene_model<T>(scene, [&](auto& oscillator) {
+    const ConfigResult configured = configure_for_scene(oscillator, scene);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
 
     RunningStatistics<T> statistics;
@@ -298,6 +301,28 @@ SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vecto
     return summary;
   });
 }
+
+template <typename T>
+void add_ride_comfort(SimulationSummary& summary, const std::vector<double>& a_u,
+                      const std::vector<T>& a_x, double dt_s) {
+  RideComfort<double> comfort;
+  const ConfigResult configured = comfort.configure(ComfortWeighting::wk, 1.0 / dt_s);
+  if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+  const std::size_t count = std::min(a_u.size(), a_x.size());
+  for (std::size_t n = 0; n < count; ++n) comfort.add_sample(a_u[n], static_cast<double>(a_x[n]));
+  summary.comfort = true;
+  summary.floor_weighted_rms = comfort.floor_weighted_rms();
+  summary.seat_weighted_rms = comfort.seat_weighted_rms();
+  summary.seat_ratio = comfort.seat_ratio();
+  summary.seat_vdv = comfort.seat_vdv();
+  summary.seat_mtvv = comfort.seat_mtvv();
+  summary.seat_crest_factor = comfort.seat_crest_factor();
+}
+
+template void add_ride_comfort<double>(SimulationSummary&, const std::vector<double>&,
+                                       const std::vector<double>&, double);
+template void add_ride_comfort<float>(SimulationSummary&, const std::vector<double>&,
+                                      const std::vector<float>&, double);
 
 template SimulationSummary simulate_signal<double>(const SimulationSetup&,
                                                    const std::vector<double>&,

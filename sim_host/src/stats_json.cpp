@@ -43,6 +43,14 @@ std::string format_stats_json(const SimulationSummary& s, const StatsContext& co
     json["saturation"] = s.saturated_steps != 0;
     json["saturated_steps"] = s.saturated_steps;
   }
+  if (s.comfort) {  // ISO 2631-1, Wk: the seat's vertical axis
+    json["seat_weighted_rms"] = s.seat_weighted_rms;
+    json["floor_weighted_rms"] = s.floor_weighted_rms;
+    json["seat"] = s.seat_ratio;
+    json["vdv"] = s.seat_vdv;
+    json["mtvv"] = s.seat_mtvv;
+    json["crest_factor"] = s.seat_crest_factor;
+  }
   json["repetitions"] = s.repetitions;
   json["input"] = context.input_path;
   json["output"] = context.output_path;

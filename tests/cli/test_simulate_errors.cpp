@@ -108,7 +108,7 @@ TEST(SimulateErrors, UnknownFlagModelIntegratorScalarOrSmoothing) {
                  "--scalar: unknown scalar 'half' (expected double, float or fixed)", 2);
   expect_refused({"--input", in, "--model", "smooth", "--smoothing", "sigmoid"},
                  "--smoothing: unknown form 'sigmoid' (expected atan, tanh, erf or rational)", 2);
-  expect_refused({"--input", in}, "--model is required", 2);
+  expect_refused({"--input", in}, "--model is required (or give a --scene)", 2);
   expect_refused({"--input", in, "--model", "signum", "--mass", "heavy"},
                  "Could not convert: --mass = heavy", 2);
   expect_refused({"--input", in, "--model", "signum", "--x0", "nan"},

@@ -111,11 +111,16 @@ class EndStopOscillator {
     }
     contacts_ = 0;
     event_budget_exhausted_ = 0;
+    rejected_inputs_ = 0;
+    state_resets_ = 0;
     acceleration_ = stuck() ? T(0) : seat_acceleration(x_, v_) - a_u0;
   }
 
   StepOutput<T> step(T a_u_next) noexcept {
-    if (!S::is_finite(a_u_next)) a_u_next = a_prev_;
+    if (!S::is_finite(a_u_next)) {
+      a_u_next = a_prev_;
+      ++rejected_inputs_;
+    }
     const Input in{a_prev_, a_u_next};
     StopContacts<T>& out = contacts_last_;
     out = StopContacts<T>{};
@@ -148,6 +153,12 @@ class EndStopOscillator {
       }
     }
     events = search(in, stuck_ticks, out);
+    if (!S::is_finite(x_) || !S::is_finite(v_)) {  // never for an accepted scene; counted if so
+      x_ = v_ = T(0);
+      direction_ = kSticking ? T(0) : T(1);
+      contact_ = 0;
+      ++state_resets_;
+    }
     a_prev_ = a_u_next;
     out.contact = static_cast<std::int8_t>(contact_);
     const StepOutput<T> result = output(in.a1, stuck_ticks * tick_fraction_, events);
@@ -162,6 +173,10 @@ class EndStopOscillator {
   bool stuck() const noexcept { return kSticking && direction_ == T(0); }
   std::uint64_t contacts() const noexcept { return contacts_; }
   std::uint64_t event_budget_exhausted() const noexcept { return event_budget_exhausted_; }
+  std::uint64_t rejected_inputs() const noexcept { return rejected_inputs_; }
+  std::uint64_t state_resets() const noexcept { return state_resets_; }
+  // The output at the current state with the last input (row 0 of a run, as Oscillator's).
+  StepOutput<T> current() const noexcept { return output(a_prev_, stuck() ? T(1) : T(0), 0); }
   // Mechanical energy of the seat: kinetic, spring and stop (J).
   double energy_j() const noexcept {
     const double x = S::to_double(x_), v = S::to_double(v_);
@@ -387,6 +402,8 @@ class EndStopOscillator {
   StopContacts<T> contacts_last_{};
   std::uint64_t contacts_ = 0;
   std::uint64_t event_budget_exhausted_ = 0;
+  std::uint64_t rejected_inputs_ = 0;
+  std::uint64_t state_resets_ = 0;
 };
 
 }  // namespace stickslip

@@ -15,6 +15,8 @@ struct SimulateRequest {
   std::string stats_path;  // empty: no stats file
   SimulationSetup setup;   // dt_s is taken from the input file
   ScalarType scalar = ScalarType::float64;
+  std::string scene_path;  // --scene: checked against the input's dt when it names a sample rate
+  double scene_dt_s = 0.0;  // 0: the scene names no sample rate
 };
 
 struct SimulateResult {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "stickslip/core/params.hpp"
+#include "stickslip/models/scene.hpp"
 #include "stickslip/host/error.hpp"
 
 namespace stickslip::host {
@@ -24,6 +25,9 @@ struct SimulationSetup {
   // Run the event-driven reference solver (reference_solver.hpp, `--integrator reference`)
   // instead of the core; params.integrator is then ignored. Double only.
   bool reference = false;
+  // The scene's effects (models/scene.hpp): with kEndStops the end-stop model runs, with `stops`.
+  unsigned effects = kSpring | kDamper | kCoulomb | kStaticFriction | kStribeck;
+  EndStopParams stops;
 };
 
 inline constexpr std::uint64_t kManySteps = 2000000;
@@ -50,6 +54,14 @@ struct SimulationSummary {
   std::uint64_t rejected_inputs = 0;         // non-finite input samples replaced
   std::uint64_t event_budget_exhausted = 0;  // steps that hit the event budget
   std::uint64_t state_resets = 0;            // non-finite state restarts
+  // ISO 2631-1 ride comfort of the run (Wk, vertical; floor = a_u, seat = a_x), computed from the
+  // trace after the timed loop (add_ride_comfort()).
+  bool comfort = false;
+  double floor_weighted_rms = 0.0, seat_weighted_rms = 0.0;  // m/s^2
+  double seat_ratio = 0.0;                                   // SEAT
+  double seat_vdv = 0.0;                                     // m/s^1.75
+  double seat_mtvv = 0.0;                                    // m/s^2, 1 s running RMS maximum
+  double seat_crest_factor = 0.0;
   std::uint64_t saturated_steps = 0;         // fixed point: steps in which a value saturated
 };
 
@@ -59,6 +71,12 @@ class ConfigurationError : public HostError {
  public:
   explicit ConfigurationError(const std::string& core_message) : HostError(core_message) {}
 };
+
+// Fills the summary's ride-comfort figures from a finished run's input and seat acceleration
+// (RideComfort<double>, Wk at 1/dt_s); throws ConfigurationError if the weighting refuses dt_s.
+template <typename T>
+void add_ride_comfort(SimulationSummary& summary, const std::vector<double>& a_u,
+                      const std::vector<T>& a_x, double dt_s);
 
 // Configures the oscillator for setup.params (throws ConfigurationError if configure() refuses),
 // then runs reset(x0, v0, a_u[0]) and step(a_u[n]) for n >= 1 `repetitions` times, each time

@@ -1,5 +1,8 @@
 #include "stickslip/port/transport.hpp"
 
+#include <filesystem>
+#include <system_error>
+
 #include "stickslip/port/loopback_transport.hpp"
 #include "stickslip/port/socketcan_transport.hpp"
 
@@ -25,7 +28,8 @@ std::unique_ptr<Transport> make_transport(const std::string& bus_name) {
 }
 
 std::string default_bus_name() {
-  // Placeholder: the SocketCAN endpoint decides when it lands.
+  std::error_code error;
+  if (kernel_has_can() && std::filesystem::exists("/sys/class/net/vcan0", error)) return "vcan0";
   return "loopback";
 }
 

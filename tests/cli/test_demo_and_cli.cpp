@@ -72,8 +72,8 @@ TEST(Cli, UsageErrorsAreOneLineWithStatusTwo) {
   const CliRun unknown = run_stickslip({"simulat"});
   LONGS_EQUAL(2, unknown.status);
   STRCMP_EQUAL(
-      "stickslip: unknown subcommand 'simulat' (expected generate, simulate or demo; see "
-      "stickslip --help)\n",
+      "stickslip: unknown subcommand 'simulat' (expected generate, simulate, demo, replay, ecu "
+      "or record; see stickslip --help)\n",
       unknown.err.c_str());
   const CliRun flag = run_stickslip({"--verbose"});
   LONGS_EQUAL(2, flag.status);

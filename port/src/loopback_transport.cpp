@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
-#include <deque>
 #include <mutex>
 #include <vector>
 
@@ -28,9 +27,11 @@ class LoopbackEndpoint;
 
 // The process-wide bus: one mutex guards the endpoint list and every endpoint's queue (sends are
 // rare enough at 1-10 kHz that one lock is simpler than per-queue locks, and keeps order global).
+// The list is intrusive and the queues are fixed rings allocated when an endpoint is made, so
+// sending and receiving never allocate.
 struct LoopbackBus {
   std::mutex mutex;
-  std::vector<LoopbackEndpoint*> endpoints;
+  LoopbackEndpoint* first = nullptr;  // open endpoints, linked through LoopbackEndpoint::next_
 
   static LoopbackBus& instance() {
     static LoopbackBus bus;  // never destroyed before endpoints: function-local, first use
@@ -40,7 +41,7 @@ struct LoopbackBus {
 
 class LoopbackEndpoint final : public Transport {
  public:
-  explicit LoopbackEndpoint(std::size_t capacity) : capacity_(std::max<std::size_t>(capacity, 1)) {}
+  explicit LoopbackEndpoint(std::size_t capacity) : ring_(std::max<std::size_t>(capacity, 1)) {}
   ~LoopbackEndpoint() override { close(); }
 
   TransportStatus open(const std::string& bus_name) noexcept override {
@@ -48,11 +49,8 @@ class LoopbackEndpoint final : public Transport {
     LoopbackBus& bus = LoopbackBus::instance();
     std::lock_guard<std::mutex> lock(bus.mutex);
     if (open_) return TransportStatus::ok;
-    try {
-      bus.endpoints.push_back(this);
-    } catch (...) {
-      return TransportStatus::io_error;
-    }
+    next_ = bus.first;
+    bus.first = this;
     open_ = true;
     return TransportStatus::ok;
   }
@@ -83,7 +81,7 @@ class LoopbackEndpoint final : public Transport {
     }
     can::Frame stamped = frame;
     stamped.timestamp_ns = steady_now_ns();
-    for (LoopbackEndpoint* endpoint : bus.endpoints)
+    for (LoopbackEndpoint* endpoint = bus.first; endpoint != nullptr; endpoint = endpoint->next_)
       if (endpoint != this) endpoint->deliver(stamped);
     ++counters_.frames_sent;
     return TransportStatus::ok;
@@ -93,16 +91,17 @@ class LoopbackEndpoint final : public Transport {
     LoopbackBus& bus = LoopbackBus::instance();
     std::unique_lock<std::mutex> lock(bus.mutex);
     if (!open_) return TransportStatus::closed;
-    const auto ready = [this] { return !queue_.empty() || !open_; };
+    const auto ready = [this] { return count_ > 0 || !open_; };
     if (timeout_ms < 0) {
       arrived_.wait(lock, ready);
     } else if (timeout_ms > 0) {
       arrived_.wait_for(lock, std::chrono::milliseconds(timeout_ms), ready);
     }
     if (!open_) return TransportStatus::closed;
-    if (queue_.empty()) return TransportStatus::timeout;
-    frame = queue_.front();
-    queue_.pop_front();
+    if (count_ == 0) return TransportStatus::timeout;
+    frame = ring_[head_];
+    head_ = (head_ + 1) % ring_.size();
+    --count_;
     ++counters_.frames_received;
     return TransportStatus::ok;
   }
@@ -111,10 +110,15 @@ class LoopbackEndpoint final : public Transport {
     LoopbackBus& bus = LoopbackBus::instance();
     std::lock_guard<std::mutex> lock(bus.mutex);
     if (!open_) return;
-    bus.endpoints.erase(std::remove(bus.endpoints.begin(), bus.endpoints.end(), this),
-                        bus.endpoints.end());
+    for (LoopbackEndpoint** link = &bus.first; *link != nullptr; link = &(*link)->next_) {
+      if (*link == this) {
+        *link = next_;
+        break;
+      }
+    }
+    next_ = nullptr;
     open_ = false;
-    queue_.clear();
+    head_ = count_ = 0;
     arrived_.notify_all();
   }
 
@@ -127,16 +131,12 @@ class LoopbackEndpoint final : public Transport {
   // Called with the bus mutex held.
   void deliver(const can::Frame& frame) noexcept {
     if (!accepts(frame.id)) return;
-    if (queue_.size() >= capacity_) {
+    if (count_ == ring_.size()) {
       ++counters_.receive_drops;
       return;
     }
-    try {
-      queue_.push_back(frame);
-    } catch (...) {
-      ++counters_.receive_drops;
-      return;
-    }
+    ring_[(head_ + count_) % ring_.size()] = frame;
+    ++count_;
     arrived_.notify_one();
   }
 
@@ -147,10 +147,12 @@ class LoopbackEndpoint final : public Transport {
     return false;
   }
 
-  const std::size_t capacity_;
   bool open_ = false;
+  LoopbackEndpoint* next_ = nullptr;
   std::vector<ReceiveFilter> filters_;
-  std::deque<can::Frame> queue_;
+  std::vector<can::Frame> ring_;  // the bounded receive queue: count_ frames from head_
+  std::size_t head_ = 0;
+  std::size_t count_ = 0;
   std::condition_variable arrived_;
   TransportCounters counters_;
 };

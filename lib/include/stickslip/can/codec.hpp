@@ -110,14 +110,19 @@ Quantised quantise(const SignalSpec& signal, T value) noexcept {
   if (value != value) {
     return {signal.is_signed ? signed_word(kSignedNotAvailable) : kUnsignedNotAvailable, false};
   }
-  const T scaled = std::round(std::ldexp(value, signal.fraction_bits));  // exact scaling
-  if (signal.is_signed) {
-    if (scaled > T(kSignedMax)) return {signed_word(kSignedMax), true};
-    if (scaled < T(-kSignedMax)) return {signed_word(-kSignedMax), true};
-    return {signed_word(static_cast<std::int16_t>(scaled)), false};
+  // Range checks before scaling, so that no value (infinity, 1e300) can overflow: anything that
+  // would round beyond the largest code saturates.
+  const T max_code = signal.is_signed ? T(kSignedMax) : T(kUnsignedMax);
+  const T upper = std::ldexp(max_code + T(0.5), -signal.fraction_bits);
+  const T lower = signal.is_signed ? -upper : -std::ldexp(T(0.5), -signal.fraction_bits);
+  if (value >= upper) {
+    return {signal.is_signed ? signed_word(kSignedMax) : kUnsignedMax, true};
   }
-  if (scaled > T(kUnsignedMax)) return {kUnsignedMax, true};
-  if (scaled < T(0)) return {0, true};
+  if (value <= lower) {
+    return {signal.is_signed ? signed_word(-kSignedMax) : std::uint16_t{0}, true};
+  }
+  const T scaled = std::round(std::ldexp(value, signal.fraction_bits));  // exact scaling
+  if (signal.is_signed) return {signed_word(static_cast<std::int16_t>(scaled)), false};
   return {static_cast<std::uint16_t>(scaled), false};
 }
 

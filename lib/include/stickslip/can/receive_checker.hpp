@@ -13,6 +13,8 @@
 //                             sample for each of them (time never slips), flags them as held
 //   max_gap + 1 < d < 2^15    accepted as a resync (counted): the stream continues with this
 //                             sample, the lost time is not filled in
+//   kRestartRun frames in a row that are behind, with consecutive counters: the sender has
+//                             restarted; the last of them is accepted as a resync
 // The alive counter must have advanced by d mod 16 too, else alive_mismatch (refused). A frame
 // whose a_u is the not-available code advances the counter but carries no sample: invalid_signal,
 // the node holds the last sample for it. Nothing refused ever reaches the model.
@@ -100,6 +102,9 @@ struct CheckerConfig {
 
 class ReceiveChecker {
  public:
+  // Consecutive "behind" frames with consecutive counters that make a restarted stream.
+  static constexpr std::uint8_t kRestartRun = 4;
+
   explicit ReceiveChecker(const CheckerConfig& config = CheckerConfig{}) noexcept
       : config_(config) {}
 
@@ -108,6 +113,7 @@ class ReceiveChecker {
   void restart(std::uint64_t now_ns) noexcept {
     synced_ = false;
     silent_ = false;
+    ooo_run_ = 0;
     last_activity_ns_ = now_ns;
   }
   void reset_counters() noexcept { counters_ = FaultCounters{}; }
@@ -170,20 +176,32 @@ class ReceiveChecker {
         return;
       }
       if (d >= 0x8000u) {
-        result.verdict = FrameVerdict::out_of_order;
-        return;
-      }
-      if (((last_alive_ + d) & 0x0Fu) != p.alive_counter) {
+        // A sender that restarted (or a corrupted frame that passed the CRC with a counter far
+        // ahead) would lock the stream out for up to 2^15 frames: a run of kRestartRun
+        // consecutive counters, all "behind", is taken as a restarted stream (a resync).
+        ooo_run_ = (ooo_run_ > 0 && p.sample_counter == static_cast<std::uint16_t>(ooo_last_ + 1u))
+                       ? static_cast<std::uint8_t>(ooo_run_ + 1u)
+                       : std::uint8_t{1};
+        ooo_last_ = p.sample_counter;
+        if (ooo_run_ < kRestartRun) {
+          result.verdict = FrameVerdict::out_of_order;
+          return;
+        }
+        result.resync = true;
+      } else if (((last_alive_ + d) & 0x0Fu) != p.alive_counter) {
         result.verdict = FrameVerdict::alive_mismatch;
         return;
       }
-      if (d > static_cast<unsigned>(config_.max_gap) + 1u) {
+      if (result.resync) {
+        // restarted stream: nothing to hold
+      } else if (d > static_cast<unsigned>(config_.max_gap) + 1u) {
         result.resync = true;
       } else {
         result.lost_samples = static_cast<std::uint16_t>(d - 1u);
       }
     }
     synced_ = true;
+    ooo_run_ = 0;
     last_counter_ = p.sample_counter;
     last_alive_ = p.alive_counter;
     last_activity_ns_ = now_ns;
@@ -230,6 +248,8 @@ class ReceiveChecker {
   std::uint16_t last_counter_ = 0;
   std::uint8_t last_alive_ = 0;
   std::uint64_t last_activity_ns_ = 0;
+  std::uint16_t ooo_last_ = 0;  // counter of the last out-of-order frame
+  std::uint8_t ooo_run_ = 0;    // consecutive out-of-order frames with consecutive counters
 };
 
 }  // namespace stickslip::can

@@ -172,6 +172,8 @@ void add_demo(CLI::App& app, Options& o) {
   demo->add_option("--duration", o.demo.duration_s, "s")->capture_default_str();
   demo->add_option("--dt", o.demo.dt_s, "s")->capture_default_str();
   demo->add_option("--ffk", o.demo.friction_n, "F_fk = F_fs, N")->capture_default_str();
+  demo->add_option("--bus", o.demo.bus,
+                   "bus for the replay (default: vcan0 where the kernel has it, else loopback)");
   demo->add_option(
       "--out-dir", o.demo.out_dir,
       "where the files go (default: a fresh directory under the system temp directory)");

@@ -128,9 +128,10 @@ class ReceiveChecker {
   }
 
   // Call when no frame arrived for a while: counts one silence per silent period (until the next
-  // accepted frame). Returns true when this call started a silence.
+  // accepted frame) once the stream has started (waiting for the first frame is not a fault).
+  // Returns true when this call started a silence.
   bool check_silence(std::uint64_t now_ns) noexcept {
-    if (silent_ || now_ns - last_activity_ns_ <= config_.silence_timeout_ns) return false;
+    if (!synced_ || silent_ || now_ns - last_activity_ns_ <= config_.silence_timeout_ns) return false;
     silent_ = true;
     ++counters_.silence;
     return true;

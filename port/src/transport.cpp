@@ -1,8 +1,5 @@
 #include "stickslip/port/transport.hpp"
 
-#include <filesystem>
-#include <system_error>
-
 #include "stickslip/port/loopback_transport.hpp"
 #include "stickslip/port/socketcan_transport.hpp"
 
@@ -28,8 +25,7 @@ std::unique_ptr<Transport> make_transport(const std::string& bus_name) {
 }
 
 std::string default_bus_name() {
-  std::error_code error;
-  if (kernel_has_can() && std::filesystem::exists("/sys/class/net/vcan0", error)) return "vcan0";
+  // Placeholder: the SocketCAN endpoint decides when it lands.
   return "loopback";
 }
 

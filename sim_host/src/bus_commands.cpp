@@ -232,8 +232,9 @@ EcuResult run_ecu(const EcuRequest& request) {
   std::vector<can::Frame> outputs;
   outputs.reserve(16);
   node.start(now_ns());
+  std::uint64_t counted = 0;  // frames for the node: all but other nodes' outputs
   while (!(request.stop != nullptr && *request.stop != 0) &&
-         (request.max_frames == 0 || result.frames_received < request.max_frames)) {
+         (request.max_frames == 0 || counted < request.max_frames)) {
     can::Frame frame;
     const port::TransportStatus status = bus->receive(frame, request.poll_ms);
     if (status == port::TransportStatus::timeout) {
@@ -246,7 +247,7 @@ EcuResult run_ecu(const EcuRequest& request) {
                                   port::transport_status_name(status)));
     }
     ++result.frames_received;
-    node.on_frame(frame, now_ns(), outputs);
+    if (node.on_frame(frame, now_ns(), outputs) != can::FrameVerdict::ignored_output) ++counted;
     for (const can::Frame& out : outputs)
       if (send_frame(*bus, out) == port::TransportStatus::ok) ++result.output_frames;
     outputs.clear();

@@ -203,7 +203,7 @@ void add_ecu(CLI::App& app, Options& o) {
       "ecu", "The ECU node alone on a bus until SIGINT/SIGTERM or --frames; prints its counters");
   ecu->add_option("--bus", o.ecu.bus, "loopback | a SocketCAN interface such as vcan0")
       ->required();
-  ecu->add_option("--frames", o.ecu.max_frames, "stop after this many received frames (0: never)")
+  ecu->add_option("--frames", o.ecu.max_frames, "stop after this many frames for the node (all but other nodes' outputs; 0: never)")
       ->capture_default_str();
   ecu->add_option("--dt", o.ecu.setup.params.dt_s, "sample interval of the stream, s")
       ->capture_default_str();

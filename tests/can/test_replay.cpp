@@ -164,10 +164,16 @@ TEST(EcuCommand, NodeAloneConsumesFramesUntilTheFrameLimitAndReportsCounters) {
   foreign.id = 0x321;
   foreign.length = 8;
   tester->send(foreign);
+  // Another node's outputs are ignored and not counted towards --frames.
+  can::Frame other_node;
+  other_node.id = can::kSeatStats.id;
+  other_node.length = 8;
+  tester->send(other_node);
   // Up to the frame limit with duplicates of the last sample (the node stops at 60).
   for (int i = 0; i < 10; ++i) tester->send(can::make_input_frame(0.55, 50));
   ecu.join();
-  LONGS_EQUAL(60, result.frames_received);
+  LONGS_EQUAL(61, result.frames_received);
+  LONGS_EQUAL(1, result.faults.ignored_output);
   LONGS_EQUAL(51, result.faults.accepted);
   LONGS_EQUAL(1, result.faults.unknown_id);
   LONGS_EQUAL(60 - 52, result.faults.duplicate);

@@ -67,7 +67,9 @@ struct EcuRequest {
   std::string bus;
   SimulationSetup setup;  // params.dt_s: the stream's sample interval
   ScalarType scalar = ScalarType::float64;
-  std::uint64_t max_frames = 0;  // stop after this many received frames (0: never)
+  // Stop after this many frames for the node (every received frame except other nodes'
+  // SeatMotion/SeatForce/SeatStats/SeatScene outputs, which are ignored); 0: never.
+  std::uint64_t max_frames = 0;
   std::string output_path;       // empty: no CSV
   can::CheckerConfig checker;
   int poll_ms = 20;              // receive timeout between checks of `stop`

@@ -122,6 +122,8 @@ class LoopbackEndpoint final : public Transport {
     arrived_.notify_all();
   }
 
+  const LoopbackEndpoint* next() const noexcept { return next_; }
+
   TransportCounters counters() const noexcept override {
     std::lock_guard<std::mutex> lock(LoopbackBus::instance().mutex);
     return counters_;
@@ -158,6 +160,15 @@ class LoopbackEndpoint final : public Transport {
 };
 
 }  // namespace
+
+std::size_t loopback_endpoints() noexcept {
+  LoopbackBus& bus = LoopbackBus::instance();
+  std::lock_guard<std::mutex> lock(bus.mutex);
+  std::size_t count = 0;
+  for (const LoopbackEndpoint* endpoint = bus.first; endpoint != nullptr; endpoint = endpoint->next())
+    ++count;
+  return count;
+}
 
 std::unique_ptr<Transport> make_loopback_transport() {
   return make_loopback_transport(kLoopbackDefaultQueueFrames);

@@ -186,6 +186,46 @@ TEST(EcuCommand, NodeAloneConsumesFramesUntilTheFrameLimitAndReportsCounters) {
   STRCMP_EQUAL("t,a_u,x_r,v_r,a_x,f_f,stuck", lines[0].c_str());
 }
 
+TEST(EcuCommand, NodeAloneWritesWhatReplayWritesForTheSameFrames) {
+  // What the guest test does with canplayer: the frames of a recording sent by another endpoint
+  // to `ecu`; its CSV must equal replay's (and so simulate's on the quantised input).
+  const std::string lorry = dir.file("lorry.csv");
+  LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "lorry", "--rms", "0.35", "--duration", "10",
+                                "--dt", "0.001", "--seed", "2", "--output", lorry}).status);
+  LONGS_EQUAL(0, run_stickslip({"replay", "--input", lorry, "--output", dir.file("replay.csv"),
+                                "--model", "stick-slip", "--ffk", "45"}).status);
+  const host::BusRecording recording = host::frames_from_csv(lorry);
+  host::EcuRequest request;
+  request.bus = "loopback";
+  request.setup.params.model = FrictionModel::stick_slip;
+  request.setup.params.integrator = Integrator::exact;
+  request.setup.params.kinetic_friction_n = request.setup.params.static_friction_n = 45.0;
+  request.max_frames = recording.frames.size();
+  request.output_path = dir.file("ecu.csv");
+  auto tester = port::make_loopback_transport();
+  CHECK(tester->open("loopback") == port::TransportStatus::ok);
+  const port::ReceiveFilter motion{can::kSeatMotion.id, can::kStandardIdMask};
+  tester->set_filters(&motion, 1);
+  host::EcuResult result;
+  std::thread ecu([&] { result = host::run_ecu(request); });
+  for (int wait = 0; wait < 1000 && port::loopback_endpoints() < 2; ++wait)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  LONGS_EQUAL(2, port::loopback_endpoints());
+  // Lock step: each frame is answered (SeatMotion) before the next goes out.
+  std::uint64_t answered = 0;
+  for (const can::Frame& frame : recording.frames) {
+    CHECK(tester->send(frame) == port::TransportStatus::ok);
+    can::Frame answer;
+    answered += tester->receive(answer, 1000) == port::TransportStatus::ok;
+  }
+  ecu.join();
+  LONGS_EQUAL(recording.frames.size(), answered);
+  LONGS_EQUAL(recording.frames.size(), result.faults.accepted);
+  LONGS_EQUAL(0, result.faults.faults());
+  CHECK_TRUE(stickslip::test::read_text(dir.file("replay.csv")) ==
+             stickslip::test::read_text(request.output_path));
+}
+
 TEST(EcuCommand, StopFlagEndsTheRun) {
   host::EcuRequest request;
   request.bus = "loopback";

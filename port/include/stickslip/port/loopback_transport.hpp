@@ -19,4 +19,7 @@ std::unique_ptr<Transport> make_loopback_transport();
 // The same with a receive queue of `queue_frames` (>= 1) frames.
 std::unique_ptr<Transport> make_loopback_transport(std::size_t queue_frames);
 
+// Endpoints open on the loopback bus now (lets a test wait until a node is listening).
+std::size_t loopback_endpoints() noexcept;
+
 }  // namespace stickslip::port

@@ -64,12 +64,14 @@ EcuNodeConfig node_config(const SimulationSetup& setup, ScalarType scalar,
 }
 
 std::string with_bus_fields(const std::string& stats_json, const std::string& bus,
-                            const can::FaultCounters& faults, const port::TransportCounters& node) {
+                            const can::FaultCounters& faults, const port::TransportCounters& node,
+                            const port::TransportCounters& sender) {
   auto json = nlohmann::ordered_json::parse(stats_json);
   json["bus"] = bus;
   json["faults"] = nlohmann::ordered_json::parse(fault_counters_json(faults));
   json["receive_drops"] = node.receive_drops;
   json["malformed_reads"] = node.malformed_reads;
+  json["send_failures"] = sender.send_failures;  // frames the bus could not carry (not sent)
   return json.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
@@ -220,7 +222,7 @@ ReplayResult replay_file(const ReplayRequest& request) {
   result.stats_json = with_bus_fields(
       format_stats_json(result.summary,
                         StatsContext{&setup, request.scalar, request.input_path, request.output_path}),
-      request.bus, result.faults, result.node);
+      request.bus, result.faults, result.node, result.sender);
   return result;
 }
 

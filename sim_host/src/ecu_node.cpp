@@ -11,6 +11,7 @@
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
+#include "stickslip/observer/observer.hpp"
 
 namespace stickslip::host {
 
@@ -27,6 +28,8 @@ class SeatModel {
   virtual SampleOutput first(double a_u) = 0;
   virtual SampleOutput step(double a_u) = 0;
   virtual void summarise(SimulationSummary& summary) const = 0;
+  // The observer's window figures as of its last completed block (what the node publishes).
+  virtual ObserverSummary observed() const = 0;
 };
 
 namespace {
@@ -35,24 +38,32 @@ template <typename T, typename Law>
 class SeatModelFor final : public SeatModel {
  public:
   SeatModelFor(const SimulationSetup& setup) : x0_(static_cast<T>(setup.x0_m)), v0_(static_cast<T>(setup.v0_m_per_s)) {
-    const ConfigResult configured = oscillator_.configure(setup.params);
+    ObserverParams params;
+    params.model = setup.params;
+    // A 10 s window (or the whole stream if its blocks would be under one sample).
+    params.window_s = std::fmax(10.0, 10.0 * setup.params.dt_s);
+    params.exponential_time_s = std::fmax(10.0, setup.params.dt_s);
+    const ConfigResult configured = observer_.configure(params);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
     statistics_.reset();
   }
 
   SampleOutput first(double a_u) override {
     const T input = static_cast<T>(a_u);
-    oscillator_.reset(x0_, v0_, input);
+    observer_.reset(input, x0_, v0_);
     statistics_.reset();
     events_ = 0;
-    const StepOutput<T> out = oscillator_.current();
+    const StepOutput<T> out = observer_.estimate().model;
     statistics_.add_sample(input, out.a_x_m_per_s2);
     return convert(out);
   }
 
+  ObserverSummary observed() const override { return observer_.summary(); }
+
   SampleOutput step(double a_u) override {
     const T input = static_cast<T>(a_u);
-    const StepOutput<T> out = oscillator_.step(input);
+    // The observer's estimate is the oscillator's step, bit for bit (tests/core/test_observer.cpp).
+    const StepOutput<T> out = observer_.update(input).model;
     statistics_.add_sample(input, out.a_x_m_per_s2);
     statistics_.add_step(out.stuck_fraction);
     events_ += out.events;
@@ -67,9 +78,28 @@ class SeatModelFor final : public SeatModel {
     summary.transmissibility = statistics_.transmissibility();
     summary.stick_probability = statistics_.stick_probability();
     summary.events = events_;
-    summary.rejected_inputs = oscillator_.rejected_inputs();
-    summary.event_budget_exhausted = oscillator_.event_budget_exhausted();
-    summary.state_resets = oscillator_.state_resets();
+    const Oscillator<T, Law>& oscillator = observer_.model();
+    summary.rejected_inputs = oscillator.rejected_inputs();
+    summary.event_budget_exhausted = oscillator.event_budget_exhausted();
+    summary.state_resets = oscillator.state_resets();
+    const RideComfort<T>& comfort = observer_.comfort();
+    summary.comfort = comfort.samples() > 0;
+    summary.floor_weighted_rms = comfort.floor_weighted_rms();
+    summary.seat_weighted_rms = comfort.seat_weighted_rms();
+    summary.seat_ratio = comfort.seat_ratio();
+    summary.seat_vdv = comfort.seat_vdv();
+    summary.seat_mtvv = comfort.seat_mtvv();
+    summary.seat_crest_factor = comfort.seat_crest_factor();
+    const ObserverSummary o = observer_.summary();
+    summary.observed = true;
+    summary.window_s = o.window_s;
+    summary.window_transmissibility = o.transmissibility;
+    summary.window_stick_probability = o.stick_probability;
+    summary.window_den_hartog_k = o.den_hartog_k;
+    summary.window_stick_events = o.stick_events;
+    summary.window_slip_events = o.slip_events;
+    summary.regime_changes = o.regime_changes;
+    summary.observer_regime = o.regime_known ? regime_name(o.regime) : "unknown (window not yet full)";
   }
 
  private:
@@ -78,7 +108,7 @@ class SeatModelFor final : public SeatModel {
             static_cast<double>(out.a_x_m_per_s2), static_cast<double>(out.friction_n), out.stuck};
   }
 
-  Oscillator<T, Law> oscillator_;
+  Observer<T, Law> observer_;  // the model, its windows, regime and ride comfort
   RunningStatistics<T> statistics_;
   std::uint64_t events_ = 0;
   T x0_, v0_;
@@ -170,10 +200,10 @@ void EcuNode::emit(double a_u, bool held, bool resync, std::vector<can::Frame>& 
   pair_frame(can::kSeatMotion, 0, state_flags, out.a_x, out.x_r);
   pair_frame(can::kSeatForce, 1, state_flags, out.v_r, out.f_f);
   if (index % config_.stats_every == 0) {
-    SimulationSummary running;
-    model_->summarise(running);
-    const double k = den_hartog_factor(config_.setup.params.kinetic_friction_n,
-                                       config_.setup.params.mass_kg, running.rms_u);
+    // The observer's window (10 s) as of its last completed block; before the first block
+    // completes, nothing has been observed yet and the figures are 0.
+    const ObserverSummary running = model_->observed();
+    const double k = running.den_hartog_k;
     pair_frame(can::kSeatStats, 2, 0, running.transmissibility, running.stick_probability);
     const double faults = static_cast<double>(checker_.counters().faults());
     pair_frame(can::kSeatScene, 3, 0, std::isfinite(k) ? k : std::numeric_limits<double>::quiet_NaN(),

@@ -51,6 +51,18 @@ std::string format_stats_json(const SimulationSummary& s, const StatsContext& co
     json["mtvv"] = s.seat_mtvv;
     json["crest_factor"] = s.seat_crest_factor;
   }
+  if (s.observed) {
+    nlohmann::ordered_json observer;
+    observer["window_s"] = s.window_s;
+    observer["T_ax"] = s.window_transmissibility;
+    observer["p_stick"] = s.window_stick_probability;
+    observer["K"] = s.window_den_hartog_k;
+    observer["stick_events"] = s.window_stick_events;
+    observer["slip_events"] = s.window_slip_events;
+    observer["regime"] = s.observer_regime;
+    observer["regime_changes"] = s.regime_changes;
+    json["observer"] = observer;
+  }
   json["repetitions"] = s.repetitions;
   json["input"] = context.input_path;
   json["output"] = context.output_path;

@@ -122,6 +122,8 @@ class Observer {
     estimate_ = ObserverEstimate<T>{};
     estimate_.model = model_.current();
     was_stuck_ = estimate_.model.stuck;
+    // Ride comfort covers every sample of the stream, the first one too (the windows count steps).
+    if constexpr (kComfort) comfort_.add_sample(a_u0, estimate_.model.a_x_m_per_s2);
     mismatch_ = false;
     samples_ = 0;
     summary_ = ObserverSummary{};

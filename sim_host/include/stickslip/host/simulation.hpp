@@ -62,6 +62,13 @@ struct SimulationSummary {
   double seat_vdv = 0.0;                                     // m/s^1.75
   double seat_mtvv = 0.0;                                    // m/s^2, 1 s running RMS maximum
   double seat_crest_factor = 0.0;
+  // The ECU node's observer (observer/observer.hpp) at the end of the stream: its last full
+  // window (10 s) and its regime with hysteresis.
+  bool observed = false;
+  double window_s = 0.0, window_transmissibility = 0.0, window_stick_probability = 0.0;
+  double window_den_hartog_k = 0.0;
+  std::uint32_t window_stick_events = 0, window_slip_events = 0, regime_changes = 0;
+  std::string observer_regime;
   std::uint64_t saturated_steps = 0;         // fixed point: steps in which a value saturated
 };
 

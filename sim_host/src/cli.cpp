@@ -79,7 +79,14 @@ void add_model_options(CLI::App* command, SimulationSetup& setup, ModelOptions& 
   command->add_option("--integrator", m.integrator,
                       "euler | symplectic | rk4 | exact (default: exact for linear, signum, "
                       "stick-slip; rk4 for smooth, stribeck)");
-  command->add_option("--scalar", m.scalar, "double | float")->capture_default_str();
+  command->add_option("--scalar", m.scalar, "double | float | fixed (Q23.40, as simulate)")
+      ->capture_default_str();
+  command->add_option("--input-range", p.input_range_m_per_s2,
+                      "fixed point: largest |a_u| its scaling must hold, m/s^2")
+      ->capture_default_str();
+  command->add_option("--displacement-range", p.displacement_range_m,
+                      "fixed point: largest |x_r| its scaling must hold, m")
+      ->capture_default_str();
   command->add_option("--x0", setup.x0_m, "initial x_r, m")->capture_default_str();
   command->add_option("--v0", setup.v0_m_per_s, "initial v_r, m/s")->capture_default_str();
 }
@@ -102,7 +109,7 @@ void resolve_model_options(CLI::App& command, const ModelOptions& m, SimulationS
                      "' (expected euler, symplectic, rk4 or exact)");
   }
   if (!parse_scalar(m.scalar, scalar)) {
-    throw UsageError("--scalar: unknown scalar '" + m.scalar + "' (expected double or float)");
+    throw UsageError("--scalar: unknown scalar '" + m.scalar + "' (expected double, float or fixed)");
   }
   if (command.get_option("--ffs")->count() == 0) p.static_friction_n = p.kinetic_friction_n;
 }

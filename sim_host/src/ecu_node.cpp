@@ -10,6 +10,7 @@
 #include "stickslip/can/codec.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
+#include "stickslip/host/fixed_dispatch.hpp"
 #include "stickslip/models/dispatch.hpp"
 #include "stickslip/observer/observer.hpp"
 
@@ -114,6 +115,79 @@ class SeatModelFor final : public SeatModel {
   T x0_, v0_;
 };
 
+// Fixed point (Q23.40): the loop body of simulate_signal_fixed() (the input converted as an ECU
+// converts it, statistics in double). No observer (its windows and filters run in float or
+// double): the published T_ax, p and K are those of the whole stream so far.
+template <typename Law>
+class SeatModelFixed final : public SeatModel {
+ public:
+  explicit SeatModelFixed(const SimulationSetup& setup)
+      : setup_(setup), x0_(setup.x0_m), v0_(setup.v0_m_per_s) {
+    const ConfigResult configured = oscillator_.configure(setup.params);
+    if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+  }
+  SampleOutput first(double a_u) override {
+    const Fixed input(a_u);
+    start_saturated_ = take_fixed_point_saturation();
+    oscillator_.reset(x0_, v0_, input);
+    statistics_.reset();
+    events_ = 0;
+    const StepOutput<Fixed> out = oscillator_.current();
+    statistics_.add_sample(input.to_double(), out.a_x_m_per_s2.to_double());
+    return convert(out);
+  }
+  SampleOutput step(double a_u) override {
+    const Fixed input(a_u);
+    const StepOutput<Fixed> out = oscillator_.step(input);
+    statistics_.add_sample(input.to_double(), out.a_x_m_per_s2.to_double());
+    statistics_.add_step(out.stuck_fraction.to_double());
+    events_ += out.events;
+    return convert(out);
+  }
+  void summarise(SimulationSummary& summary) const override {
+    summary.samples = statistics_.samples();
+    summary.steps = statistics_.steps();
+    summary.rms_u = statistics_.rms_u();
+    summary.rms_x = statistics_.rms_x();
+    summary.transmissibility = statistics_.transmissibility();
+    summary.stick_probability = statistics_.stick_probability();
+    summary.events = events_;
+    summary.rejected_inputs = oscillator_.rejected_inputs();
+    summary.event_budget_exhausted = oscillator_.event_budget_exhausted();
+    summary.state_resets = oscillator_.state_resets();
+    summary.saturated_steps = oscillator_.saturated_steps() + (start_saturated_ ? 1u : 0u);
+  }
+  ObserverSummary observed() const override {
+    ObserverSummary o;
+    o.rms_u_m_per_s2 = statistics_.rms_u();
+    o.rms_x_m_per_s2 = statistics_.rms_x();
+    o.transmissibility = statistics_.transmissibility();
+    o.stick_probability = statistics_.stick_probability();
+    o.den_hartog_k = den_hartog_factor(setup_.params.kinetic_friction_n, setup_.params.mass_kg,
+                                       o.rms_u_m_per_s2);
+    return o;
+  }
+
+ private:
+  static SampleOutput convert(const StepOutput<Fixed>& out) {
+    return {out.x_r_m.to_double(), out.v_r_m_per_s.to_double(), out.a_x_m_per_s2.to_double(),
+            out.friction_n.to_double(), out.stuck};
+  }
+  SimulationSetup setup_;
+  Oscillator<Fixed, Law> oscillator_;
+  RunningStatistics<double> statistics_;
+  std::uint64_t events_ = 0;
+  Fixed x0_, v0_;
+  bool start_saturated_ = false;
+};
+
+std::unique_ptr<SeatModel> make_fixed_model(const SimulationSetup& setup) {
+  return with_fixed_oscillator(setup.params, [&](auto& oscillator) -> std::unique_ptr<SeatModel> {
+    using Osc = std::decay_t<decltype(oscillator)>;
+    return std::make_unique<SeatModelFixed<typename Osc::FrictionLaw>>(setup);
+  });
+}
+
 template <typename T>
 std::unique_ptr<SeatModel> make_model(const SimulationSetup& setup) {
   // The same law for the same parameters as with_oscillator() (dispatch.hpp) chooses.
@@ -134,8 +208,9 @@ std::uint64_t clock_ns() {
 EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config.checker) {
   if (config_.stats_every == 0) config_.stats_every = 1;
   if (config_.setup.reference) throw UsageError("the ECU node runs the core's integrators only");
-  model_ = config_.scalar == ScalarType::float32 ? make_model<float>(config_.setup)
-                                                 : make_model<double>(config_.setup);
+  model_ = config_.scalar == ScalarType::fixed     ? make_fixed_model(config_.setup)
+           : config_.scalar == ScalarType::float32 ? make_model<float>(config_.setup)
+                                                   : make_model<double>(config_.setup);
 }
 
 EcuNode::~EcuNode() = default;

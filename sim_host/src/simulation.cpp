@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "stickslip/core/fixed_point.hpp"
+#include "stickslip/host/fixed_dispatch.hpp"
 #include "stickslip/host/reference_solver.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/ride_comfort.hpp"
@@ -90,32 +91,6 @@ SimulationSummary simulate_reference(const SimulationSetup& setup, const std::ve
   trace.friction_n = std::move(result.friction_n);
   trace.stuck = std::move(result.stuck);
   return summary;
-}
-
-// The oscillators fixed point offers (no transcendental functions); any other model goes to the
-// stick-slip oscillator, whose configure() refuses it by name.
-template <typename Fn>
-decltype(auto) with_fixed_oscillator(const OscillatorParams& params, Fn&& fn) {
-  switch (params.model) {
-    case FrictionModel::linear: {
-      Oscillator<Fixed, NoFriction> oscillator;
-      return fn(oscillator);
-    }
-    case FrictionModel::signum: {
-      Oscillator<Fixed, SignumFriction> oscillator;
-      return fn(oscillator);
-    }
-    case FrictionModel::smooth: {
-      Oscillator<Fixed, SmoothFriction<SmoothingLaw::rational>> oscillator;
-      return fn(oscillator);
-    }
-    case FrictionModel::stick_slip:
-    case FrictionModel::stribeck:
-    default: {
-      Oscillator<Fixed, CoulombStickSlip> oscillator;
-      return fn(oscillator);
-    }
-  }
 }
 
 }  // namespace

@@ -47,3 +47,24 @@ TEST(ReplayObserver, WindowFiguresEqualTheOfflineOnesForTheSameSamples) {
     DOUBLES_EQUAL(offline[key].get<double>(), stats[key].get<double>(), 1e-12 * offline[key].get<double>());
   }
 }
+
+// replay --scalar fixed runs the same fixed-point loop as simulate --scalar fixed: bit for bit.
+TEST(ReplayObserver, FixedPointReplayEqualsFixedPointSimulateBitForBit) {
+  test::TempDir dir;
+  const std::string input = dir.file("lorry.csv"), replayed = dir.file("replayed.csv"),
+                    simulated = dir.file("simulated.csv");
+  CHECK_EQUAL(0, test::run_stickslip({"generate", "--kind", "lorry", "--rms", "0.35", "--duration", "20",
+                                      "--dt", "0.001", "--output", input}).status);
+  const test::CliRun replay = test::run_stickslip({"replay", "--input", input, "--bus", "loopback", "--model",
+                                                   "stick-slip", "--ffk", "45", "--scalar", "fixed", "--output",
+                                                   replayed});
+  CHECK_EQUAL(0, replay.status);
+  const test::CliRun simulate = test::run_stickslip({"simulate", "--input", replayed, "--output", simulated,
+                                                     "--model", "stick-slip", "--ffk", "45", "--scalar", "fixed",
+                                                     "--repetitions", "1"});
+  CHECK_EQUAL(0, simulate.status);
+  CHECK_TRUE(test::read_text(replayed) == test::read_text(simulated));
+  const nlohmann::json stats = nlohmann::json::parse(test::split_lines(replay.out).back());
+  STRCMP_EQUAL("fixed", stats["scalar"].get<std::string>().c_str());
+  CHECK_EQUAL(0, stats["saturated_steps"].get<int>());
+}

@@ -14,6 +14,7 @@
 #include "extra_commands.hpp"
 #include "stickslip/host/bus_commands.hpp"
 #include "stickslip/host/commands.hpp"
+#include "stickslip/can/codec.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/scene_file.hpp"
 #include "stickslip/host/seat_test_spectra.hpp"
@@ -24,6 +25,7 @@ namespace {
 
 // The model options simulate has (without --integrator reference), for replay and ecu.
 struct ModelOptions {
+  std::string scene;
   std::string model;
   std::string integrator;
   std::string smoothing = "tanh";
@@ -60,10 +62,61 @@ volatile std::sig_atomic_t stop_requested = 0;
 
 extern "C" void request_stop(int) { stop_requested = 1; }
 
+// --scene: the file's seat, model, integrator and effects into `setup`, then every flag the
+// command was given over them (the flags were parsed into `flags`). Returns the scene.
+Scene apply_scene_file(CLI::App& command, const std::string& path, const OscillatorParams& flags,
+                       SimulationSetup& setup) {
+  const Scene scene = read_scene_file(path);
+  OscillatorParams merged = scene.params;
+  const auto given = [&](const char* name) {
+    const CLI::Option* option = command.get_option_no_throw(name);
+    return option != nullptr && option->count() > 0;
+  };
+  if (given("--mass")) merged.mass_kg = flags.mass_kg;
+  if (given("--stiffness")) merged.stiffness_n_per_m = flags.stiffness_n_per_m;
+  if (given("--damping")) merged.damping_ns_per_m = flags.damping_ns_per_m;
+  if (given("--ffk")) merged.kinetic_friction_n = flags.kinetic_friction_n;
+  if (given("--ffs")) merged.static_friction_n = flags.static_friction_n;
+  if (given("--ffk") && !given("--ffs") && !(scene.effects & kStaticFriction)) {
+    merged.static_friction_n = merged.kinetic_friction_n;
+  }
+  if (given("--stribeck-velocity")) merged.stribeck_velocity_m_per_s = flags.stribeck_velocity_m_per_s;
+  if (given("--smoothing-c")) merged.smoothing_constant_s_per_m = flags.smoothing_constant_s_per_m;
+  if (given("--input-range")) merged.input_range_m_per_s2 = flags.input_range_m_per_s2;
+  if (given("--displacement-range")) merged.displacement_range_m = flags.displacement_range_m;
+  merged.dt_s = flags.dt_s;
+  setup.params = merged;
+  setup.effects = scene.effects;
+  setup.stops = scene.stops;
+  return scene;
+}
+
+// The bus commands run the frame layout of docs/can/stickslip.dbc: a scene that names other
+// identifiers is refused rather than silently ignored.
+void check_scene_can_ids(const Scene& scene, const std::string& path) {
+  if (scene.can.input_id && *scene.can.input_id != can::kSeatInput.id) {
+    throw UsageError(fmt::format("{}: [can] input_id = 0x{:X}, but this build's frame layout "
+                                 "(docs/can/stickslip.dbc) receives SeatInput on 0x{:X}",
+                                 path, *scene.can.input_id, can::kSeatInput.id));
+  }
+  if (scene.can.output_id && *scene.can.output_id != can::kSeatMotion.id) {
+    throw UsageError(fmt::format("{}: [can] output_id = 0x{:X}, but this build's frame layout "
+                                 "(docs/can/stickslip.dbc) publishes from 0x{:X}",
+                                 path, *scene.can.output_id, can::kSeatMotion.id));
+  }
+  if (scene.effects & kEndStops) {
+    throw UsageError(path + ": the ECU node runs friction scenes without end stops (use simulate "
+                            "for a scene with end stops)");
+  }
+}
+
 void add_model_options(CLI::App* command, SimulationSetup& setup, ModelOptions& m) {
   OscillatorParams& p = setup.params;
-  command->add_option("--model", m.model, "linear | signum | smooth | stick-slip | stribeck")
-      ->required();
+  command->add_option("--scene", m.scene,
+                      "scene file (TOML, docs/scenes/): seat, model, integrator, sample rate, CAN "
+                      "ids; the flags override it");
+  command->add_option("--model", m.model,
+                      "linear | signum | smooth | stick-slip | stribeck (required without --scene)");
   command->add_option("--mass", p.mass_kg, "seat mass m, kg")->capture_default_str();
   command->add_option("--stiffness", p.stiffness_n_per_m, "spring k, N/m")->capture_default_str();
   command->add_option("--damping", p.damping_ns_per_m, "damper b, N s/m")->capture_default_str();
@@ -92,18 +145,28 @@ void add_model_options(CLI::App* command, SimulationSetup& setup, ModelOptions& 
 }
 
 void resolve_model_options(CLI::App& command, const ModelOptions& m, SimulationSetup& setup,
-                           ScalarType& scalar) {
+                           ScalarType& scalar, double* scene_dt_s = nullptr) {
   OscillatorParams& p = setup.params;
-  if (!parse_model(m.model.c_str(), p.model)) {
+  const auto given = [&](const char* name) { return command.get_option(name)->count() > 0; };
+  const bool scene = !m.scene.empty();
+  if (scene) {
+    const Scene file = apply_scene_file(command, m.scene, setup.params, setup);
+    check_scene_can_ids(file, m.scene);
+    if (scene_dt_s && file.sample_rate_hz) *scene_dt_s = 1.0 / *file.sample_rate_hz;
+  }
+  if (!scene && !given("--model")) throw UsageError("--model is required (or give a --scene)");
+  if (scene && !given("--model")) {
+    // the scene's model stands
+  } else if (!parse_model(m.model.c_str(), p.model)) {
     throw UsageError("--model: unknown model '" + m.model +
                      "' (expected linear, signum, smooth, stick-slip or stribeck)");
   }
-  if (!parse_smoothing(m.smoothing.c_str(), p.smoothing)) {
+  if ((!scene || given("--smoothing")) && !parse_smoothing(m.smoothing.c_str(), p.smoothing)) {
     throw UsageError("--smoothing: unknown form '" + m.smoothing +
                      "' (expected atan, tanh, erf or rational)");
   }
   if (m.integrator.empty()) {
-    p.integrator = default_integrator(p.model);
+    if (!scene || given("--model")) p.integrator = default_integrator(p.model);
   } else if (!parse_integrator(m.integrator.c_str(), p.integrator)) {
     throw UsageError("--integrator: unknown integrator '" + m.integrator +
                      "' (expected euler, symplectic, rk4 or exact)");
@@ -111,7 +174,7 @@ void resolve_model_options(CLI::App& command, const ModelOptions& m, SimulationS
   if (!parse_scalar(m.scalar, scalar)) {
     throw UsageError("--scalar: unknown scalar '" + m.scalar + "' (expected double, float or fixed)");
   }
-  if (command.get_option("--ffs")->count() == 0) p.static_friction_n = p.kinetic_friction_n;
+  if (!scene && !given("--ffs")) p.static_friction_n = p.kinetic_friction_n;
 }
 
 void add_checker_options(CLI::App* command, can::CheckerConfig& checker) {
@@ -259,7 +322,9 @@ void add_record(CLI::App& app, Options& o) {
 
 int run_replay(CLI::App& replay, Options& o, std::ostream& out) {
   ReplayRequest request = o.replay;
-  resolve_model_options(replay, o.replay_model, request.setup, request.scalar);
+  double scene_dt_s = 0.0;
+  resolve_model_options(replay, o.replay_model, request.setup, request.scalar, &scene_dt_s);
+  if (scene_dt_s > 0.0 && replay.get_option("--dt")->count() == 0) request.log_dt_s = scene_dt_s;
   if (o.rate == "realtime") {
     request.realtime = true;
   } else if (o.rate != "max") {
@@ -278,7 +343,11 @@ int run_replay(CLI::App& replay, Options& o, std::ostream& out) {
 int run_ecu_command(CLI::App& ecu, Options& o, std::ostream& out) {
   EcuRequest request = o.ecu;
   request.output_path = o.ecu_output;
-  resolve_model_options(ecu, o.ecu_model, request.setup, request.scalar);
+  const double dt_flag_s = request.setup.params.dt_s;
+  double scene_dt_s = 0.0;
+  resolve_model_options(ecu, o.ecu_model, request.setup, request.scalar, &scene_dt_s);
+  request.setup.params.dt_s =
+      scene_dt_s > 0.0 && ecu.get_option("--dt")->count() == 0 ? scene_dt_s : dt_flag_s;
   stop_requested = 0;
   struct sigaction action = {};
   action.sa_handler = request_stop;
@@ -361,27 +430,10 @@ int run_generate(CLI::App& generate, const Options& o, std::ostream& out) {
   return kExitOk;
 }
 
-// --scene: the file's seat and model, then every flag given on the command line over it.
+// simulate --scene: the scene into the request (see apply_scene_file), its sample rate checked
+// against the recording's by simulate_file().
 void apply_scene(CLI::App& simulate, const Options& o, SimulateRequest& request) {
-  const Scene scene = read_scene_file(o.scene_path);
-  const OscillatorParams& flags = o.simulate.setup.params;
-  OscillatorParams merged = scene.params;
-  const auto given = [&](const char* name) { return simulate.get_option(name)->count() > 0; };
-  if (given("--mass")) merged.mass_kg = flags.mass_kg;
-  if (given("--stiffness")) merged.stiffness_n_per_m = flags.stiffness_n_per_m;
-  if (given("--damping")) merged.damping_ns_per_m = flags.damping_ns_per_m;
-  if (given("--ffk")) merged.kinetic_friction_n = flags.kinetic_friction_n;
-  if (given("--ffs")) merged.static_friction_n = flags.static_friction_n;
-  if (given("--ffk") && !given("--ffs") && !(scene.effects & kStaticFriction)) {
-    merged.static_friction_n = merged.kinetic_friction_n;
-  }
-  if (given("--stribeck-velocity")) merged.stribeck_velocity_m_per_s = flags.stribeck_velocity_m_per_s;
-  if (given("--smoothing-c")) merged.smoothing_constant_s_per_m = flags.smoothing_constant_s_per_m;
-  if (given("--input-range")) merged.input_range_m_per_s2 = flags.input_range_m_per_s2;
-  if (given("--displacement-range")) merged.displacement_range_m = flags.displacement_range_m;
-  request.setup.params = merged;
-  request.setup.effects = scene.effects;
-  request.setup.stops = scene.stops;
+  const Scene scene = apply_scene_file(simulate, o.scene_path, o.simulate.setup.params, request.setup);
   request.scene_path = o.scene_path;
   request.scene_dt_s = scene.sample_rate_hz ? 1.0 / *scene.sample_rate_hz : 0.0;
 }

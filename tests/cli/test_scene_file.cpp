@@ -47,7 +47,7 @@ TEST(SceneFile, ExampleScenesInTheRepositoryLoad) {
   DOUBLES_EQUAL(45.0, stick.params.static_friction_n, 0.0);
   DOUBLES_EQUAL(1e-3, stick.params.dt_s, 0.0);
   CHECK_EQUAL(0x100u, *stick.can.input_id);
-  CHECK_EQUAL(0x200u, *stick.can.output_id);
+  CHECK_EQUAL(0x180u, *stick.can.output_id);
   const Scene linear = read_scene_file(dir + "linear-seat.toml");
   CHECK_TRUE(linear.params.model == FrictionModel::linear);
   DOUBLES_EQUAL(504.0, linear.params.damping_ns_per_m, 0.0);

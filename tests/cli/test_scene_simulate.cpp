@@ -94,3 +94,25 @@ TEST(SceneSimulate, SceneSampleRateMustMatchTheRecording) {
   CHECK_EQUAL(2, no_model.status);
   STRCMP_CONTAINS("--model is required", no_model.err.c_str());
 }
+
+// The bus commands take the same scene files: replay with the scene equals replay with the flags,
+// and a scene naming identifiers other than the frame layout's is refused, not ignored.
+TEST(SceneSimulate, ReplayTakesTheSceneAndChecksItsCanIds) {
+  const std::string a = dir.file("scene.csv"), b = dir.file("flags.csv");
+  CHECK_EQUAL(0, test::run_stickslip({"replay", "--scene", scene_path("lorry-seat-stick-slip.toml"), "--input",
+                                      input, "--bus", "loopback", "--output", a}).status);
+  CHECK_EQUAL(0, test::run_stickslip({"replay", "--input", input, "--bus", "loopback", "--output", b, "--model",
+                                      "stick-slip", "--ffk", "45", "--ffs", "45"}).status);
+  CHECK_TRUE(test::read_text(a) == test::read_text(b));
+  const std::string other = dir.file("other-ids.toml");
+  test::write_text(other, "[scene]\neffects = [\"spring\", \"damper\"]\n[can]\ninput_id = 0x123\n");
+  const test::CliRun refused = test::run_stickslip({"replay", "--scene", other, "--input", input, "--bus",
+                                                    "loopback", "--output", dir.file("x.csv")});
+  CHECK_EQUAL(2, refused.status);
+  STRCMP_CONTAINS("input_id = 0x123", refused.err.c_str());
+  const test::CliRun stops = test::run_stickslip({"replay", "--scene", scene_path("seat-with-end-stops.toml"),
+                                                  "--input", input, "--bus", "loopback", "--output",
+                                                  dir.file("y.csv")});
+  CHECK_EQUAL(2, stops.status);
+  STRCMP_CONTAINS("without end stops", stops.err.c_str());
+}

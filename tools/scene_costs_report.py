@@ -31,7 +31,7 @@ def steps_of(name):
     return b["items_per_second"] * b["cpu_time"] / 1e3
 
 effects_doc = {
-    "hand-written-linear": "hand-written exact linear map (the yardstick)",
+    "hand-written-linear": "hand-written exact linear map with the library's contract (finite input and state): the yardstick",
     "spring+damper": "linear: Oscillator<T, NoFriction>, exact",
     "+coulomb": "signum: Oscillator<T, SignumFriction>, exact (Filippov at v_r = 0)",
     "+coulomb+static": "stick-slip: Oscillator<T, CoulombStickSlip>, exact",

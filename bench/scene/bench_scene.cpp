@@ -40,8 +40,9 @@ const std::vector<T>& lorry_input() {
 }
 
 // The hand-written linear seat: x' = xx x + xv v + gx0 g0 + gx1 g1 (and v), g = -a_u, and the
-// seat acceleration -(k x + b v)/m, with the library's input contract (a non-finite sample is
-// replaced by the previous one). Nothing else: what a linear scene needs.
+// seat acceleration -(k x + b v)/m, with the library's contract (a non-finite input sample is
+// replaced by the previous one; a non-finite state restarts from rest). Nothing else: what a
+// linear scene needs.
 template <typename T>
 struct HandWrittenLinear {
   T xx, xv, vx, vv, gx0, gx1, gv0, gv1, k_over_m, b_over_m;
@@ -62,6 +63,7 @@ struct HandWrittenLinear {
     x = xn;
     v = vn;
     a_prev = a;
+    if (!(std::isfinite(x) && std::isfinite(v))) x = v = T(0);  // the contract: never NaN/Inf
     return -(k_over_m * x + b_over_m * v);
   }
 };

@@ -643,6 +643,21 @@ class Oscillator {
   }
 
   StepOutput<T> output(T a_u, T stuck_fraction, int events) const noexcept {
+    if constexpr (Law::kind == LawKind::none) {
+      // No friction element, nothing of it in the output: (1/m) * 0 would still cost a multiply
+      // and an add, which floating point may not drop (the linear scene's cost, docs/SCENES.md).
+      (void)a_u;
+      StepOutput<T> out{};
+      out.x_r_m = x_;
+      out.v_r_m_per_s = v_;
+      out.a_x_m_per_s2 = -(k_over_m_ * x_ + b_over_m_ * v_);
+      out.friction_n = T(0);
+      out.stuck_time_s = T(0);
+      out.stuck_fraction = stuck_fraction;
+      out.events = static_cast<std::uint8_t>(events);
+      out.stuck = false;
+      return out;
+    }
     StepOutput<T> out{};
     out.x_r_m = x_;
     out.v_r_m_per_s = v_;

@@ -9,13 +9,13 @@ out="${VCAN_OUT:-/tmp/vcan-out}"
 mkdir -p "$out"
 failures=0
 
-check() {  # check NAME COMMAND...
-  name="$1"; shift
-  start=$(cut -d' ' -f1 /proc/uptime)
+check() {  # check NAME COMMAND... (sh has no locals: the check_ names are this function's own)
+  check_name="$1"; shift
+  check_start=$(cut -d' ' -f1 /proc/uptime)
   if "$@"; then
-    echo "check: $name: ok ($start -> $(cut -d' ' -f1 /proc/uptime) s)"
+    echo "check: $check_name: ok ($check_start -> $(cut -d' ' -f1 /proc/uptime) s)"
   else
-    echo "check: $name: FAILED (status $?)"
+    echo "check: $check_name: FAILED (status $?)"
     failures=$((failures + 1))
   fi
 }

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The real-kernel vcan test (CTest: vcan.guest, label vcan).
 #   run.sh --work DIR --stickslip PATH --test-binary PATH
+# Environment: VCAN_DURATION_S (recording replayed over vcan0, default 10 s), VCAN_BURST_S
+# (cangen burst, default 10 s), VCAN_QEMU_TIMEOUT (default 600 s).
 # Where this host has vcan0 up, runs guest-tests.sh natively. Otherwise builds the guest
 # (build-initramfs.sh, cached in DIR) and boots it with qemu-system-x86_64 under TCG; the guest
 # runs guest-tests.sh and reports on the serial console and through isa-debug-exit. Passes only
@@ -53,14 +55,22 @@ echo "vcan: no vcan0 on this host ($(uname -r)): building the qemu guest in $wor
 bash "$here/build-initramfs.sh" --work "$work" --stickslip "$stickslip" --test-binary "$test_binary"
 echo "vcan: guest built after $(elapsed) s; booting (TCG, timeout ${qemu_timeout} s)"
 
+# Settings for guest-tests.sh: the kernel hands unknown name=value arguments to /init as
+# environment variables.
+guest_environment=""
+for name in VCAN_DURATION_S VCAN_BURST_S; do
+  [ -n "${!name:-}" ] && guest_environment+=" $name=${!name}"
+done
+kernel="$work/vmlinuz"
+[ -e "$work/vmlinux" ] && kernel="$work/vmlinux"  # PVH boot, no decompression under TCG
 serial="$work/serial.log"
 rm -f "$serial"
 status=0
 timeout --kill-after=10 "$qemu_timeout" qemu-system-x86_64 \
   -accel tcg -cpu max -smp 1 -m 768 \
   -nodefaults -nographic -no-reboot -monitor none -serial "file:$serial" \
-  -kernel "$work/vmlinuz" -initrd "$work/initramfs.cpio" \
-  -append "console=ttyS0 quiet loglevel=3 panic=-1" \
+  -kernel "$kernel" -initrd "$work/initramfs.cpio" \
+  -append "console=ttyS0 quiet loglevel=3 panic=-1 $guest_environment" \
   -device isa-debug-exit,iobase=0xf4,iosize=0x04 </dev/null || status=$?
 # The guest's console, without the firmware's terminal escapes.
 tr -d '\r' < "$serial" | sed 's/\x1b\[[0-9;?]*[a-zA-Z]//g; s/\x1bc//g'

@@ -1,6 +1,8 @@
 // SocketCAN endpoint: AF_CAN / CAN_RAW on a named interface (see the header for the contract).
 #include "stickslip/port/socketcan_transport.hpp"
 
+#include "stickslip/port/socketcan_frame.hpp"
+
 #include <cerrno>
 #include <cstring>
 #include <ctime>
@@ -26,12 +28,6 @@ namespace {
 #endif
 
 constexpr std::size_t kMaxFilters = CAN_RAW_FILTER_MAX;
-
-// The data lengths a CAN FD frame can have (the DLC table 0..15).
-bool is_fd_length(unsigned length) noexcept {
-  return length <= 8 || length == 12 || length == 16 || length == 20 || length == 24 ||
-         length == 32 || length == 48 || length == 64;
-}
 
 std::uint64_t realtime_now_ns() noexcept {
   timespec now{};
@@ -191,21 +187,10 @@ class SocketCanTransport final : public Transport {
 
   TransportStatus send_frame(const can::Frame& frame) const noexcept {
     if (fd_ < 0) return TransportStatus::closed;
-    if ((frame.flags & can::kErrorFrame) != 0) return TransportStatus::invalid_argument;
-    const bool extended = (frame.flags & can::kExtendedId) != 0;
-    const bool remote = (frame.flags & can::kRemote) != 0;
-    const bool fd = (frame.flags & can::kFd) != 0;
-    if (frame.id > (extended ? can::kExtendedIdMask : can::kStandardIdMask)) {
-      return TransportStatus::invalid_argument;
-    }
-    if (fd ? (remote || !is_fd_length(frame.length)) : frame.length > can::kClassicMaxLength) {
-      return TransportStatus::invalid_argument;
-    }
     canfd_frame raw{};
-    raw.can_id = frame.id | (extended ? CAN_EFF_FLAG : 0u) | (remote ? CAN_RTR_FLAG : 0u);
-    raw.len = frame.length;
-    if (!remote) std::memcpy(raw.data, frame.data, frame.length);
-    const std::size_t size = fd ? CANFD_MTU : CAN_MTU;  // a can_frame is a canfd_frame's prefix
+    std::size_t size = 0;
+    const TransportStatus encoded = encode_socketcan_write(frame, raw, size);
+    if (encoded != TransportStatus::ok) return encoded;
     for (;;) {
       const ssize_t written = ::send(fd_, &raw, size, MSG_DONTWAIT);
       if (written == static_cast<ssize_t>(size)) return TransportStatus::ok;
@@ -267,27 +252,10 @@ class SocketCanTransport final : public Transport {
         if (dropped > counters_.receive_drops) counters_.receive_drops = dropped;
       }
     }
-    const bool whole = (message.msg_flags & MSG_TRUNC) == 0;
-    const bool classic = bytes == static_cast<ssize_t>(CAN_MTU) && raw.len <= CAN_MAX_DLEN;
-    const bool fd = bytes == static_cast<ssize_t>(CANFD_MTU) && is_fd_length(raw.len);
-    if (!whole || (!classic && !fd)) {
+    if (!decode_socketcan_read(raw, static_cast<std::size_t>(bytes), (message.msg_flags & MSG_TRUNC) != 0, frame)) {
       ++counters_.malformed_reads;
       return TransportStatus::io_error;
     }
-    frame = can::Frame{};
-    if ((raw.can_id & CAN_ERR_FLAG) != 0) {
-      frame.id = raw.can_id & CAN_ERR_MASK;
-      frame.flags = can::kErrorFrame;
-    } else if ((raw.can_id & CAN_EFF_FLAG) != 0) {
-      frame.id = raw.can_id & CAN_EFF_MASK;
-      frame.flags = can::kExtendedId;
-    } else {
-      frame.id = raw.can_id & CAN_SFF_MASK;
-    }
-    if ((raw.can_id & CAN_RTR_FLAG) != 0 && !fd) frame.flags |= can::kRemote;
-    if (fd) frame.flags |= can::kFd;
-    frame.length = raw.len;
-    if ((frame.flags & can::kRemote) == 0) std::memcpy(frame.data, raw.data, raw.len);
     frame.timestamp_ns = timestamp_ns != 0 ? timestamp_ns : realtime_now_ns();
     ++counters_.frames_received;
     return TransportStatus::ok;
@@ -299,6 +267,53 @@ class SocketCanTransport final : public Transport {
 };
 
 }  // namespace
+
+bool is_fd_length(unsigned length) noexcept {
+  return length <= 8 || length == 12 || length == 16 || length == 20 || length == 24 ||
+         length == 32 || length == 48 || length == 64;
+}
+
+bool decode_socketcan_read(const canfd_frame& raw, std::size_t size, bool truncated, can::Frame& frame) noexcept {
+  const bool classic = size == CAN_MTU && raw.len <= CAN_MAX_DLEN;
+  const bool fd = size == CANFD_MTU && is_fd_length(raw.len);
+  if (truncated || (!classic && !fd)) return false;
+  can::Frame decoded;
+  if ((raw.can_id & CAN_ERR_FLAG) != 0) {
+    decoded.id = raw.can_id & CAN_ERR_MASK;
+    decoded.flags = can::kErrorFrame;
+  } else if ((raw.can_id & CAN_EFF_FLAG) != 0) {
+    decoded.id = raw.can_id & CAN_EFF_MASK;
+    decoded.flags = can::kExtendedId;
+  } else {
+    decoded.id = raw.can_id & CAN_SFF_MASK;
+  }
+  if (fd) {
+    decoded.flags |= can::kFd;  // an FD frame has no remote form
+  } else if ((raw.can_id & CAN_RTR_FLAG) != 0) {
+    decoded.flags |= can::kRemote;  // length: the requested DLC, no data
+  }
+  decoded.length = raw.len;
+  if ((decoded.flags & can::kRemote) == 0) std::memcpy(decoded.data, raw.data, raw.len);
+  frame = decoded;
+  return true;
+}
+
+TransportStatus encode_socketcan_write(const can::Frame& frame, canfd_frame& raw, std::size_t& size) noexcept {
+  if ((frame.flags & can::kErrorFrame) != 0) return TransportStatus::invalid_argument;
+  const bool extended = (frame.flags & can::kExtendedId) != 0;
+  const bool remote = (frame.flags & can::kRemote) != 0;
+  const bool fd = (frame.flags & can::kFd) != 0;
+  if (frame.id > (extended ? can::kExtendedIdMask : can::kStandardIdMask)) return TransportStatus::invalid_argument;
+  if (fd ? (remote || !is_fd_length(frame.length)) : frame.length > can::kClassicMaxLength) {
+    return TransportStatus::invalid_argument;
+  }
+  raw = canfd_frame{};
+  raw.can_id = frame.id | (extended ? CAN_EFF_FLAG : 0u) | (remote ? CAN_RTR_FLAG : 0u);
+  raw.len = frame.length;
+  if (!remote) std::memcpy(raw.data, frame.data, frame.length);
+  size = fd ? CANFD_MTU : CAN_MTU;  // a can_frame is a canfd_frame's prefix
+  return TransportStatus::ok;
+}
 
 bool kernel_has_can() noexcept {
   const int fd = ::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);

@@ -1,12 +1,16 @@
 #include "stickslip/host/cli.hpp"
 
+#include <csignal>
 #include <exception>
 #include <new>
 #include <ostream>
 
+#include <signal.h>
+
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "stickslip/host/bus_commands.hpp"
 #include "stickslip/host/commands.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/signal_generator.hpp"
@@ -14,7 +18,15 @@
 namespace stickslip::host {
 namespace {
 
-// Everything the three subcommands can be given; filled by CLI11, checked by the commands.
+// The model options simulate has (without --integrator reference), for replay and ecu.
+struct ModelOptions {
+  std::string model;
+  std::string integrator;
+  std::string smoothing = "tanh";
+  std::string scalar = "double";
+};
+
+// Everything the subcommands can be given; filled by CLI11, checked by the commands.
 struct Options {
   // generate
   std::string kind;
@@ -28,7 +40,71 @@ struct Options {
   std::string scalar = "double";
   // demo
   DemoRequest demo;
+  // replay, ecu, record
+  ReplayRequest replay;
+  EcuRequest ecu;
+  RecordRequest record;
+  std::string rate = "max";
+  std::string ecu_output;
+  ModelOptions replay_model, ecu_model;
 };
+
+volatile std::sig_atomic_t stop_requested = 0;
+
+extern "C" void request_stop(int) { stop_requested = 1; }
+
+void add_model_options(CLI::App* command, SimulationSetup& setup, ModelOptions& m) {
+  OscillatorParams& p = setup.params;
+  command->add_option("--model", m.model, "linear | signum | smooth | stick-slip | stribeck")
+      ->required();
+  command->add_option("--mass", p.mass_kg, "seat mass m, kg")->capture_default_str();
+  command->add_option("--stiffness", p.stiffness_n_per_m, "spring k, N/m")->capture_default_str();
+  command->add_option("--damping", p.damping_ns_per_m, "damper b, N s/m")->capture_default_str();
+  command->add_option("--ffk", p.kinetic_friction_n, "kinetic friction F_fk, N")
+      ->capture_default_str();
+  command->add_option("--ffs", p.static_friction_n, "static friction F_fs, N (default: F_fk)");
+  command->add_option("--stribeck-velocity", p.stribeck_velocity_m_per_s, "v_S, m/s (stribeck)")
+      ->capture_default_str();
+  command->add_option("--smoothing", m.smoothing, "atan | tanh | erf | rational (smooth)")
+      ->capture_default_str();
+  command->add_option("--smoothing-c", p.smoothing_constant_s_per_m, "c in s(c v_r), s/m (smooth)")
+      ->capture_default_str();
+  command->add_option("--integrator", m.integrator,
+                      "euler | symplectic | rk4 | exact (default: exact for linear, signum, "
+                      "stick-slip; rk4 for smooth, stribeck)");
+  command->add_option("--scalar", m.scalar, "double | float")->capture_default_str();
+  command->add_option("--x0", setup.x0_m, "initial x_r, m")->capture_default_str();
+  command->add_option("--v0", setup.v0_m_per_s, "initial v_r, m/s")->capture_default_str();
+}
+
+void resolve_model_options(CLI::App& command, const ModelOptions& m, SimulationSetup& setup,
+                           ScalarType& scalar) {
+  OscillatorParams& p = setup.params;
+  if (!parse_model(m.model.c_str(), p.model)) {
+    throw UsageError("--model: unknown model '" + m.model +
+                     "' (expected linear, signum, smooth, stick-slip or stribeck)");
+  }
+  if (!parse_smoothing(m.smoothing.c_str(), p.smoothing)) {
+    throw UsageError("--smoothing: unknown form '" + m.smoothing +
+                     "' (expected atan, tanh, erf or rational)");
+  }
+  if (m.integrator.empty()) {
+    p.integrator = default_integrator(p.model);
+  } else if (!parse_integrator(m.integrator.c_str(), p.integrator)) {
+    throw UsageError("--integrator: unknown integrator '" + m.integrator +
+                     "' (expected euler, symplectic, rk4 or exact)");
+  }
+  if (!parse_scalar(m.scalar, scalar)) {
+    throw UsageError("--scalar: unknown scalar '" + m.scalar + "' (expected double or float)");
+  }
+  if (command.get_option("--ffs")->count() == 0) p.static_friction_n = p.kinetic_friction_n;
+}
+
+void add_checker_options(CLI::App* command, can::CheckerConfig& checker) {
+  command->add_option("--max-gap", checker.max_gap,
+                      "lost samples held per gap; a longer gap is a counted resync")
+      ->capture_default_str();
+}
 
 void add_generate(CLI::App& app, Options& o) {
   CLI::App* generate = app.add_subcommand(
@@ -96,9 +172,107 @@ void add_demo(CLI::App& app, Options& o) {
   demo->add_option("--duration", o.demo.duration_s, "s")->capture_default_str();
   demo->add_option("--dt", o.demo.dt_s, "s")->capture_default_str();
   demo->add_option("--ffk", o.demo.friction_n, "F_fk = F_fs, N")->capture_default_str();
+  demo->add_option("--bus", o.demo.bus,
+                   "bus for the replay (default: vcan0 where the kernel has it, else loopback)");
   demo->add_option(
       "--out-dir", o.demo.out_dir,
       "where the files go (default: a fresh directory under the system temp directory)");
+}
+
+void add_replay(CLI::App& app, Options& o) {
+  CLI::App* replay = app.add_subcommand(
+      "replay",
+      "Stream a recording (CSV, or a candump .log) as CAN frames over a bus to the ECU node; "
+      "write its samples as simulate does and print the statistics and the fault counters");
+  replay->add_option("--input", o.replay.input_path, "CSV (t,a_u) or candump log (*.log)")
+      ->required();
+  replay->add_option("--bus", o.replay.bus, "loopback | a SocketCAN interface such as vcan0")
+      ->capture_default_str();
+  replay->add_option("--rate", o.rate, "max | realtime")->capture_default_str();
+  replay->add_option("--output", o.replay.output_path, "CSV file to write")->required();
+  replay->add_option("--output-log", o.replay.output_log_path,
+                     "also write every frame on the bus as a candump log");
+  replay->add_option("--dt", o.replay.log_dt_s, "sample interval of a candump-log input, s")
+      ->capture_default_str();
+  add_checker_options(replay, o.replay.checker);
+  add_model_options(replay, o.replay.setup, o.replay_model);
+}
+
+void add_ecu(CLI::App& app, Options& o) {
+  CLI::App* ecu = app.add_subcommand(
+      "ecu", "The ECU node alone on a bus until SIGINT/SIGTERM or --frames; prints its counters");
+  ecu->add_option("--bus", o.ecu.bus, "loopback | a SocketCAN interface such as vcan0")
+      ->required();
+  ecu->add_option("--frames", o.ecu.max_frames, "stop after this many frames for the node (all but other nodes' outputs; 0: never)")
+      ->capture_default_str();
+  ecu->add_option("--dt", o.ecu.setup.params.dt_s, "sample interval of the stream, s")
+      ->capture_default_str();
+  ecu->add_option("--output", o.ecu_output, "write the node's samples as simulate does");
+  add_checker_options(ecu, o.ecu.checker);
+  add_model_options(ecu, o.ecu.setup, o.ecu_model);
+}
+
+void add_record(CLI::App& app, Options& o) {
+  CLI::App* record = app.add_subcommand(
+      "record", "Write a CSV recording as a candump log of SeatInput frames (canplayer replays it)");
+  record->add_option("--input", o.record.input_path, "CSV with columns t and a_u")->required();
+  record->add_option("--output", o.record.output_path, "candump log to write")->required();
+  record->add_option("--interface", o.record.interface, "interface name in the log")
+      ->capture_default_str();
+}
+
+int run_replay(CLI::App& replay, Options& o, std::ostream& out) {
+  ReplayRequest request = o.replay;
+  resolve_model_options(replay, o.replay_model, request.setup, request.scalar);
+  if (o.rate == "realtime") {
+    request.realtime = true;
+  } else if (o.rate != "max") {
+    throw UsageError("--rate: unknown rate '" + o.rate + "' (expected max or realtime)");
+  }
+  const ReplayResult result = replay_file(request);
+  out << fmt::format("replayed {} over {}: {} frames sent, {} samples, {} output frames ({} seen "
+                     "back), {} input samples saturated\n",
+                     request.input_path, result.bus, result.frames_sent, result.summary.samples,
+                     result.output_frames, result.output_frames_received, result.input_saturated);
+  out << fault_counters_text(result.faults) << "\n";
+  out << result.stats_json << "\n";  // the last line of stdout, for tools
+  return kExitOk;
+}
+
+int run_ecu_command(CLI::App& ecu, Options& o, std::ostream& out) {
+  EcuRequest request = o.ecu;
+  request.output_path = o.ecu_output;
+  resolve_model_options(ecu, o.ecu_model, request.setup, request.scalar);
+  stop_requested = 0;
+  struct sigaction action = {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = 0;  // no SA_RESTART: a blocking receive returns at once
+  struct sigaction old_int = {}, old_term = {};
+  sigaction(SIGINT, &action, &old_int);
+  sigaction(SIGTERM, &action, &old_term);
+  request.stop = &stop_requested;
+  EcuResult result;
+  try {
+    result = run_ecu(request);
+  } catch (...) {
+    sigaction(SIGINT, &old_int, nullptr);
+    sigaction(SIGTERM, &old_term, nullptr);
+    throw;
+  }
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+  out << fault_counters_text(result.faults) << "\n";
+  out << result.json << "\n";
+  return kExitOk;
+}
+
+int run_record(const Options& o, std::ostream& out) {
+  std::uint64_t saturated = 0;
+  const std::uint64_t frames = record_log(o.record, saturated);
+  out << fmt::format("wrote {}: {} SeatInput frames on {}, {} samples saturated\n",
+                     o.record.output_path, frames, o.record.interface, saturated);
+  return kExitOk;
 }
 
 int run_generate(const Options& o, std::ostream& out) {
@@ -166,12 +340,16 @@ int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {
     add_generate(app, options);
     add_simulate(app, options);
     add_demo(app, options);
+    add_replay(app, options);
+    add_ecu(app, options);
+    add_record(app, options);
     // CLI11 would only say "A subcommand is required" for a misspelt one.
     const std::string first = argc >= 2 ? argv[1] : "";
     if (!first.empty() && first[0] != '-' && first != "generate" && first != "simulate" &&
-        first != "demo") {
+        first != "demo" && first != "replay" && first != "ecu" && first != "record") {
       throw UsageError(std::string("unknown subcommand '") + argv[1] +
-                       "' (expected generate, simulate or demo; see stickslip --help)");
+                       "' (expected generate, simulate, demo, replay, ecu or record; see "
+                       "stickslip --help)");
     }
     try {
       app.parse(argc, argv);
@@ -186,6 +364,9 @@ int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {
     if (app.got_subcommand("generate")) return run_generate(options, out);
     if (app.got_subcommand("simulate"))
       return run_simulate(*app.get_subcommand("simulate"), options, out);
+    if (app.got_subcommand("replay")) return run_replay(*app.get_subcommand("replay"), options, out);
+    if (app.got_subcommand("ecu")) return run_ecu_command(*app.get_subcommand("ecu"), options, out);
+    if (app.got_subcommand("record")) return run_record(options, out);
     run_demo(options.demo, out);
     return kExitOk;
   } catch (const UsageError& error) {

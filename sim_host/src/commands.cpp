@@ -7,6 +7,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <optional>
@@ -15,11 +16,13 @@
 #include <utility>
 #include <vector>
 
+#include "stickslip/host/bus_commands.hpp"
 #include "stickslip/host/csv_reader.hpp"
 #include "stickslip/host/output_file.hpp"
 #include "stickslip/host/signal_generator.hpp"
 #include "stickslip/host/stats_json.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
+#include "stickslip/port/transport.hpp"
 
 namespace stickslip::host {
 namespace {
@@ -96,6 +99,16 @@ SimulationSummary run_and_write(const SimulationSetup& setup, const SampledSigna
 void require_finite(const char* option, double value) {
   if (!std::isfinite(value))
     throw UsageError(fmt::format("{}: must be a finite number, got {}", option, value));
+}
+
+std::string read_file(const std::string& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) throw HostError(path + ": cannot read: " + std::strerror(errno));
+  std::string text;
+  char buffer[1 << 16];
+  for (std::size_t got; (got = std::fread(buffer, 1, sizeof buffer, file)) > 0;) text.append(buffer, got);
+  std::fclose(file);
+  return text;
 }
 
 std::string make_fresh_directory() {
@@ -273,8 +286,41 @@ void run_demo(const DemoRequest& request, std::ostream& out) {
           k, kStickSlipRequiredAboveK, t_ax);
       break;
   }
+
+  // The same recording as the ECU sees it: streamed as CAN frames over the default bus (vcan0
+  // where the kernel has it, else the in-process loopback bus) to the ECU node running
+  // stick-slip; then simulate on the quantised samples, which must give the same file.
+  ReplayRequest replay;
+  replay.input_path = recording_path;
+  replay.bus = request.bus.empty() ? port::default_bus_name() : request.bus;
+  replay.output_path = (dir / "stick-slip-replay.csv").string();
+  OscillatorParams& rp = replay.setup.params;
+  rp.mass_kg = 88.4;
+  rp.stiffness_n_per_m = 11500.0;
+  rp.damping_ns_per_m = 504.0;
+  rp.kinetic_friction_n = rp.static_friction_n = request.friction_n;
+  rp.model = FrictionModel::stick_slip;
+  rp.integrator = Integrator::exact;
+  const ReplayResult replayed = replay_file(replay);
+  SimulateRequest quantised;
+  quantised.input_path = replay.output_path;  // its t and a_u columns: the quantised samples
+  quantised.output_path = (dir / "stick-slip-quantised.csv").string();
+  quantised.setup.params = rp;
+  quantised.setup.repetitions = 1;
+  simulate_file(quantised);
+  const bool identical = read_file(replay.output_path) == read_file(quantised.output_path);
+  out << fmt::format(
+      "\nreplay over {} (stick-slip, exact, a_u quantised to 2^-10 m/s^2): {} frames sent, "
+      "{} samples, {} output frames; T_ax = {:.3f}, p = {:.3f}\n",
+      replayed.bus, replayed.frames_sent, replayed.summary.samples, replayed.output_frames,
+      replayed.summary.transmissibility, replayed.summary.stick_probability);
+  out << fault_counters_text(replayed.faults) << "\n";
+  out << (identical ? "simulate on the quantised samples gives the same output, bit for bit\n"
+                    : "MISMATCH: simulate on the quantised samples differs from the replay\n");
+  if (!identical) throw HostError("replay and simulate on the quantised samples differ");
   out << "files: " << directory
-      << " (lorry.csv; signum-euler, signum-exact, stick-slip-exact .csv/.json)\n";
+      << " (lorry.csv; signum-euler, signum-exact, stick-slip-exact .csv/.json; "
+         "stick-slip-replay.csv, stick-slip-quantised.csv)\n";
 }
 
 }  // namespace stickslip::host

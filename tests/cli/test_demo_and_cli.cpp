@@ -26,9 +26,16 @@ TEST(DemoCommand, TabulatesTheModelsAndNamesTheModelTheSceneNeeds) {
   // K = 4*45/(pi*sqrt(2)*88.4*0.35) = 1.309 > 0.75.
   STRCMP_CONTAINS("K = 1.31 > 0.75: stick-slip required", run.out.c_str());
   STRCMP_CONTAINS("signum (ode1) gives T_ax = ", run.out.c_str());
+  // The recording replayed over the default bus to the ECU node, with its fault counters.
+  STRCMP_CONTAINS("\nreplay over ", run.out.c_str());
+  STRCMP_CONTAINS("20001 frames sent, 20001 samples", run.out.c_str());
+  STRCMP_CONTAINS("\nfaults 0: frames 20001 accepted 20001 ", run.out.c_str());
+  STRCMP_CONTAINS("simulate on the quantised samples gives the same output, bit for bit",
+                  run.out.c_str());
   for (const char* name :
        {"lorry.csv", "signum-euler.csv", "signum-euler.json", "signum-exact.csv",
-        "signum-exact.json", "stick-slip-exact.csv", "stick-slip-exact.json"}) {
+        "signum-exact.json", "stick-slip-exact.csv", "stick-slip-exact.json",
+        "stick-slip-replay.csv", "stick-slip-quantised.csv"}) {
     CHECK_TRUE(stickslip::test::exists(out_dir + "/" + name));
   }
 }
@@ -72,8 +79,8 @@ TEST(Cli, UsageErrorsAreOneLineWithStatusTwo) {
   const CliRun unknown = run_stickslip({"simulat"});
   LONGS_EQUAL(2, unknown.status);
   STRCMP_EQUAL(
-      "stickslip: unknown subcommand 'simulat' (expected generate, simulate or demo; see "
-      "stickslip --help)\n",
+      "stickslip: unknown subcommand 'simulat' (expected generate, simulate, demo, replay, ecu "
+      "or record; see stickslip --help)\n",
       unknown.err.c_str());
   const CliRun flag = run_stickslip({"--verbose"});
   LONGS_EQUAL(2, flag.status);

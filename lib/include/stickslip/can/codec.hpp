@@ -1,0 +1,210 @@
+// The stickslip CAN messages (docs/CAN.md, docs/can/stickslip.dbc) and pure encode/decode
+// functions on 8-byte payloads. Allocation-free, noexcept, standard headers only.
+//
+// Every message has the same 8-byte layout (Intel byte order):
+//   byte 0     CRC-8 SAE J1850 over the 16-bit data ID and bytes 1..7 (crc8.hpp, e2e_crc)
+//   byte 1     bits 0..3 alive counter (+1 mod 16 per frame of that message), bits 4..7 flags
+//   bytes 2-3  sample counter: the sample index mod 2^16
+//   bytes 4-5  signal 0, 16 bits
+//   bytes 6-7  signal 1, 16 bits
+// Signals are signed or unsigned 16-bit integers with a power-of-two scale (2^-fraction_bits
+// units per bit), so decoding is exact in float and double and a quantised sample survives any
+// number of encode/decode round trips unchanged.
+//
+// Scaling and overflow: quantise() rounds to nearest (halves away from zero) and saturates to
+// [-32767, 32767] (signed) or [0, 65534] (unsigned), reporting the saturation; -32768 (0x8000)
+// and 65535 (0xFFFF) are reserved as "not available" (NaN encodes as not available).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "stickslip/can/crc8.hpp"
+#include "stickslip/can/frame.hpp"
+
+namespace stickslip::can {
+
+inline constexpr std::uint8_t kPayloadLength = 8;  // every stickslip message is a full classic frame
+inline constexpr std::int16_t kSignedNotAvailable = -32768;
+inline constexpr std::uint16_t kUnsignedNotAvailable = 0xFFFFu;
+inline constexpr std::int16_t kSignedMax = 32767;
+inline constexpr std::uint16_t kUnsignedMax = 0xFFFEu;
+
+struct SignalSpec {
+  const char* name;
+  bool is_signed;
+  int fraction_bits;  // physical value = raw * 2^-fraction_bits
+  const char* unit;
+};
+
+// Four flag bits (byte 1, bits 4..7); name nullptr where a bit is unused (always sent as 0).
+struct MessageSpec {
+  const char* name;
+  std::uint32_t id;        // 11-bit identifier
+  std::uint16_t data_id;   // E2E data ID folded into the CRC, never transmitted
+  SignalSpec signals[2];   // bytes 4-5 and 6-7
+  const char* flags[4];
+};
+
+// Cab-floor acceleration in (host or sensor -> ECU), one sample per frame at 1 kHz.
+inline constexpr MessageSpec kSeatInput{
+    "SeatInput", 0x100, 0x5A10,
+    {{"a_u", true, 10, "m/s^2"}, {"a_seat", true, 10, "m/s^2"}},
+    {"a_u_saturated", "a_seat_saturated", nullptr, nullptr}};
+// ECU outputs, every sample.
+inline constexpr MessageSpec kSeatMotion{
+    "SeatMotion", 0x180, 0x5A80,
+    {{"a_x", true, 10, "m/s^2"}, {"x_r", true, 16, "m"}},
+    {"stuck", "held", "resync", "saturated"}};
+inline constexpr MessageSpec kSeatForce{
+    "SeatForce", 0x181, 0x5A81,
+    {{"v_r", true, 12, "m/s"}, {"f_f", true, 6, "N"}},
+    {"stuck", "held", "resync", "saturated"}};
+// ECU running statistics, every Nth sample (10 by default: 100 Hz).
+inline constexpr MessageSpec kSeatStats{
+    "SeatStats", 0x182, 0x5A82,
+    {{"T_ax", false, 12, ""}, {"p_stick", false, 15, ""}},
+    {nullptr, nullptr, nullptr, "saturated"}};
+inline constexpr MessageSpec kSeatScene{
+    "SeatScene", 0x183, 0x5A83,
+    {{"K", false, 10, ""}, {"faults", false, 0, "frames"}},
+    {nullptr, nullptr, nullptr, "saturated"}};
+
+inline constexpr const MessageSpec* kMessages[] = {&kSeatInput, &kSeatMotion, &kSeatForce,
+                                                   &kSeatStats, &kSeatScene};
+inline constexpr const MessageSpec* kOutputMessages[] = {&kSeatMotion, &kSeatForce, &kSeatStats,
+                                                         &kSeatScene};
+
+// Flag bits (as Payload::flags, bits 0..3).
+enum InputFlag : std::uint8_t { kAuSaturated = 1u << 0, kASeatSaturated = 1u << 1 };
+enum OutputFlag : std::uint8_t {
+  kStuck = 1u << 0,      // SeatMotion/SeatForce: stuck at the end of the step
+  kHeld = 1u << 1,       // the sample was held (gap policy), not received
+  kResync = 1u << 2,     // first sample after a counted resync
+  kSaturated = 1u << 3,  // a signal of this frame was clipped by quantise()
+};
+
+// The decoded 8 bytes: header fields and the two raw 16-bit signal words.
+struct Payload {
+  std::uint16_t sample_counter = 0;
+  std::uint8_t alive_counter = 0;  // 0..15
+  std::uint8_t flags = 0;          // 0..15
+  std::uint16_t words[2] = {0, 0}; // raw signals (two's complement where signed)
+};
+
+struct Quantised {
+  std::uint16_t word;  // the raw value as transmitted
+  bool saturated;      // the value was outside the range and was clipped
+};
+
+inline std::uint16_t signed_word(std::int16_t raw) noexcept { return static_cast<std::uint16_t>(raw); }
+inline std::int16_t word_as_signed(std::uint16_t word) noexcept {
+  // Two's complement without implementation-defined conversion.
+  return word < 0x8000u ? static_cast<std::int16_t>(word)
+                        : static_cast<std::int16_t>(static_cast<int>(word) - 65536);
+}
+
+// Physical value -> raw word; see "Scaling and overflow" above. T is float or double.
+template <typename T>
+Quantised quantise(const SignalSpec& signal, T value) noexcept {
+  if (value != value) {
+    return {signal.is_signed ? signed_word(kSignedNotAvailable) : kUnsignedNotAvailable, false};
+  }
+  // Range checks before scaling, so that no value (infinity, 1e300) can overflow: anything that
+  // would round beyond the largest code saturates.
+  const T max_code = signal.is_signed ? T(kSignedMax) : T(kUnsignedMax);
+  const T upper = std::ldexp(max_code + T(0.5), -signal.fraction_bits);
+  const T lower = signal.is_signed ? -upper : -std::ldexp(T(0.5), -signal.fraction_bits);
+  if (value >= upper) {
+    return {signal.is_signed ? signed_word(kSignedMax) : kUnsignedMax, true};
+  }
+  if (value <= lower) {
+    return {signal.is_signed ? signed_word(-kSignedMax) : std::uint16_t{0}, true};
+  }
+  const T scaled = std::round(std::ldexp(value, signal.fraction_bits));  // exact scaling
+  if (signal.is_signed) return {signed_word(static_cast<std::int16_t>(scaled)), false};
+  return {static_cast<std::uint16_t>(scaled), false};
+}
+
+inline bool not_available(const SignalSpec& signal, std::uint16_t word) noexcept {
+  return signal.is_signed ? word == signed_word(kSignedNotAvailable) : word == kUnsignedNotAvailable;
+}
+
+// Raw word -> physical value, exact; NaN for the not-available code.
+template <typename T>
+T physical(const SignalSpec& signal, std::uint16_t word) noexcept {
+  if (not_available(signal, word)) return T(NAN);
+  const T raw = signal.is_signed ? T(word_as_signed(word)) : T(word);
+  return std::ldexp(raw, -signal.fraction_bits);
+}
+
+// Writes the 8 bytes of `message` (CRC included).
+inline void encode_payload(const MessageSpec& message, const Payload& payload,
+                           std::uint8_t out[kPayloadLength]) noexcept {
+  out[1] = static_cast<std::uint8_t>((payload.alive_counter & 0x0Fu) | ((payload.flags & 0x0Fu) << 4));
+  out[2] = static_cast<std::uint8_t>(payload.sample_counter & 0xFFu);
+  out[3] = static_cast<std::uint8_t>(payload.sample_counter >> 8);
+  out[4] = static_cast<std::uint8_t>(payload.words[0] & 0xFFu);
+  out[5] = static_cast<std::uint8_t>(payload.words[0] >> 8);
+  out[6] = static_cast<std::uint8_t>(payload.words[1] & 0xFFu);
+  out[7] = static_cast<std::uint8_t>(payload.words[1] >> 8);
+  out[0] = e2e_crc(message.data_id, out);
+}
+
+// Reads the fields of 8 bytes (no check; see crc_ok()).
+inline Payload decode_payload(const std::uint8_t in[kPayloadLength]) noexcept {
+  Payload payload;
+  payload.alive_counter = static_cast<std::uint8_t>(in[1] & 0x0Fu);
+  payload.flags = static_cast<std::uint8_t>(in[1] >> 4);
+  payload.sample_counter = static_cast<std::uint16_t>(in[2] | (in[3] << 8));
+  payload.words[0] = static_cast<std::uint16_t>(in[4] | (in[5] << 8));
+  payload.words[1] = static_cast<std::uint16_t>(in[6] | (in[7] << 8));
+  return payload;
+}
+
+inline bool crc_ok(const MessageSpec& message, const std::uint8_t in[kPayloadLength]) noexcept {
+  return in[0] == e2e_crc(message.data_id, in);
+}
+
+// A whole classic frame of `message`.
+inline Frame make_frame(const MessageSpec& message, const Payload& payload) noexcept {
+  Frame frame;
+  frame.id = message.id;
+  frame.length = kPayloadLength;
+  encode_payload(message, payload, frame.data);
+  return frame;
+}
+
+// The SeatInput frame for sample `sample_index` (the alive counter follows the sample counter,
+// as a sender that sends every sample does). `saturated` reports a clipped a_u.
+template <typename T>
+Frame make_input_frame(T a_u_m_per_s2, std::uint64_t sample_index, bool* saturated = nullptr,
+                       T a_seat_m_per_s2 = T(NAN)) noexcept {
+  const Quantised a_u = quantise(kSeatInput.signals[0], a_u_m_per_s2);
+  const Quantised a_seat = quantise(kSeatInput.signals[1], a_seat_m_per_s2);
+  Payload payload;
+  payload.sample_counter = static_cast<std::uint16_t>(sample_index & 0xFFFFu);
+  payload.alive_counter = static_cast<std::uint8_t>(sample_index & 0x0Fu);
+  payload.flags = static_cast<std::uint8_t>((a_u.saturated ? kAuSaturated : 0) |
+                                            (a_seat.saturated ? kASeatSaturated : 0));
+  payload.words[0] = a_u.word;
+  payload.words[1] = a_seat.word;
+  if (saturated != nullptr) *saturated = a_u.saturated;
+  return make_frame(kSeatInput, payload);
+}
+
+// a_u exactly as the ECU sees it after the bus: quantise then decode (the quantisation contract
+// of replay: `simulate` on these samples equals the replayed run bit for bit).
+template <typename T>
+T quantised_input(T a_u_m_per_s2) noexcept {
+  return physical<T>(kSeatInput.signals[0], quantise(kSeatInput.signals[0], a_u_m_per_s2).word);
+}
+
+// The message with this identifier, or nullptr.
+inline const MessageSpec* find_message(std::uint32_t id) noexcept {
+  for (const MessageSpec* message : kMessages)
+    if (message->id == id) return message;
+  return nullptr;
+}
+
+}  // namespace stickslip::can

@@ -1,0 +1,47 @@
+// CRC-8 SAE J1850 (polynomial 0x1D, initial value 0xFF, final XOR 0xFF, no reflection) as the
+// AUTOSAR E2E profiles 1 and 11 use it: check value 0x4B over "123456789". Bitwise, no table,
+// so it costs no flash on an MCU; 8 bytes per frame at 1 kHz is nothing.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace stickslip::can {
+
+inline constexpr std::uint8_t kCrc8SaeJ1850Polynomial = 0x1D;
+inline constexpr std::uint8_t kCrc8SaeJ1850Initial = 0xFF;
+inline constexpr std::uint8_t kCrc8SaeJ1850FinalXor = 0xFF;
+
+// Continues a CRC over more bytes. `register_value` is the raw register (before the final XOR):
+// start with kCrc8SaeJ1850Initial, apply the final XOR once at the end.
+constexpr std::uint8_t crc8_sae_j1850_update(std::uint8_t register_value, const std::uint8_t* data,
+                                             std::size_t size) noexcept {
+  for (std::size_t i = 0; i < size; ++i) {
+    register_value = static_cast<std::uint8_t>(register_value ^ data[i]);
+    for (int bit = 0; bit < 8; ++bit) {
+      register_value = (register_value & 0x80u)
+                           ? static_cast<std::uint8_t>((register_value << 1) ^ kCrc8SaeJ1850Polynomial)
+                           : static_cast<std::uint8_t>(register_value << 1);
+    }
+  }
+  return register_value;
+}
+
+// The complete CRC of one buffer.
+constexpr std::uint8_t crc8_sae_j1850(const std::uint8_t* data, std::size_t size) noexcept {
+  return static_cast<std::uint8_t>(crc8_sae_j1850_update(kCrc8SaeJ1850Initial, data, size) ^
+                                   kCrc8SaeJ1850FinalXor);
+}
+
+// E2E style frame protection: the CRC covers the 16-bit data ID (low byte, then high byte; not
+// transmitted) followed by payload bytes 1..7. The data ID is different for every message, so a
+// frame that arrives under the wrong identifier fails the check even if its bytes are intact.
+constexpr std::uint8_t e2e_crc(std::uint16_t data_id, const std::uint8_t* payload8) noexcept {
+  const std::uint8_t id_bytes[2] = {static_cast<std::uint8_t>(data_id & 0xFFu),
+                                    static_cast<std::uint8_t>(data_id >> 8)};
+  std::uint8_t reg = crc8_sae_j1850_update(kCrc8SaeJ1850Initial, id_bytes, 2);
+  reg = crc8_sae_j1850_update(reg, payload8 + 1, 7);
+  return static_cast<std::uint8_t>(reg ^ kCrc8SaeJ1850FinalXor);
+}
+
+}  // namespace stickslip::can

@@ -1,0 +1,150 @@
+// CRC-8 SAE J1850 and the frame codec (lib/can): check value, E2E data ID, exact round trips,
+// rounding and saturation.
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+#include "CppUTest/TestHarness.h"
+#include "stickslip/can/codec.hpp"
+#include "stickslip/can/crc8.hpp"
+
+using namespace stickslip::can;
+
+TEST_GROUP(Crc8){};
+
+TEST(Crc8, CheckValueOf123456789Is0x4B) {
+  const char* text = "123456789";
+  const std::uint8_t crc = crc8_sae_j1850(reinterpret_cast<const std::uint8_t*>(text), 9);
+  LONGS_EQUAL(0x4B, crc);
+  // And it is usable at compile time on an MCU (constexpr), giving the same value.
+  constexpr std::uint8_t bytes[9] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+  static_assert(crc8_sae_j1850(bytes, 9) == 0x4B, "CRC-8 SAE J1850 check value");
+}
+
+TEST(Crc8, EverySingleBitFlipOfThePayloadIsDetected) {
+  const Frame frame = make_input_frame(1.25, 1234);
+  CHECK_TRUE(crc_ok(kSeatInput, frame.data));
+  for (int byte = 0; byte < 8; ++byte) {
+    for (int bit = 0; bit < 8; ++bit) {
+      std::uint8_t corrupted[8];
+      std::memcpy(corrupted, frame.data, 8);
+      corrupted[byte] = static_cast<std::uint8_t>(corrupted[byte] ^ (1u << bit));
+      CHECK_FALSE(crc_ok(kSeatInput, corrupted));
+    }
+  }
+}
+
+TEST(Crc8, DataIdIsFoldedIntoTheCrc) {
+  // The same bytes under another message's data ID fail: a frame cannot pass as another message.
+  const Frame frame = make_input_frame(-0.5, 7);
+  for (const MessageSpec* message : kOutputMessages) CHECK_FALSE(crc_ok(*message, frame.data));
+}
+
+TEST_GROUP(Codec){};
+
+TEST(Codec, EverySignedCodeRoundTripsExactlyInDoubleAndFloat) {
+  const SignalSpec& a_u = kSeatInput.signals[0];
+  for (int raw = -kSignedMax; raw <= kSignedMax; ++raw) {
+    const auto word = static_cast<std::uint16_t>(static_cast<std::int16_t>(raw));
+    const double value = physical<double>(a_u, word);
+    const float value_f = physical<float>(a_u, word);
+    CHECK_EQUAL(static_cast<double>(raw) / 1024.0, value);
+    CHECK_EQUAL(value, static_cast<double>(value_f));
+    const Quantised back = quantise(a_u, value);
+    LONGS_EQUAL(word, back.word);
+    CHECK_FALSE(back.saturated);
+    LONGS_EQUAL(word, quantise(a_u, value_f).word);
+  }
+}
+
+TEST(Codec, QuantiseRoundsToTheNearestCode) {
+  const SignalSpec& a_u = kSeatInput.signals[0];
+  const double lsb = 1.0 / 1024.0;
+  for (double value = -3.0; value < 3.0; value += 0.0123) {
+    const double decoded = physical<double>(a_u, quantise(a_u, value).word);
+    CHECK(std::fabs(decoded - value) <= 0.5 * lsb);
+  }
+  // Halves round away from zero.
+  CHECK_EQUAL(2.0 * lsb, physical<double>(a_u, quantise(a_u, 1.5 * lsb).word));
+  CHECK_EQUAL(-2.0 * lsb, physical<double>(a_u, quantise(a_u, -1.5 * lsb).word));
+}
+
+TEST(Codec, OutOfRangeValuesSaturateAndSaySo) {
+  const SignalSpec& a_u = kSeatInput.signals[0];
+  Quantised q = quantise(a_u, 40.0);
+  CHECK_TRUE(q.saturated);
+  LONGS_EQUAL(kSignedMax, word_as_signed(q.word));
+  q = quantise(a_u, -1e300);
+  CHECK_TRUE(q.saturated);
+  LONGS_EQUAL(-kSignedMax, word_as_signed(q.word));
+  q = quantise(a_u, std::numeric_limits<double>::infinity());
+  CHECK_TRUE(q.saturated);
+  // The largest value that still rounds to the largest code is not saturated.
+  q = quantise(a_u, (kSignedMax + 0.49) / 1024.0);
+  CHECK_FALSE(q.saturated);
+  LONGS_EQUAL(kSignedMax, word_as_signed(q.word));
+  // Unsigned signals: negative values clip to 0, large ones to 65534; 65535 stays reserved.
+  const SignalSpec& t_ax = kSeatStats.signals[0];
+  q = quantise(t_ax, -0.1);
+  CHECK_TRUE(q.saturated);
+  LONGS_EQUAL(0, q.word);
+  q = quantise(t_ax, 1e6);
+  CHECK_TRUE(q.saturated);
+  LONGS_EQUAL(kUnsignedMax, q.word);
+  // NaN is "not available", decoded as NaN, never as a number.
+  q = quantise(a_u, std::numeric_limits<double>::quiet_NaN());
+  CHECK_TRUE(not_available(a_u, q.word));
+  const double decoded = physical<double>(a_u, q.word);
+  CHECK_TRUE(decoded != decoded);
+}
+
+TEST(Codec, InputFrameCarriesCountersFlagsAndSaturation) {
+  bool saturated = true;
+  Frame frame = make_input_frame(0.75, 0x12345, &saturated);
+  CHECK_FALSE(saturated);
+  LONGS_EQUAL(kSeatInput.id, frame.id);
+  LONGS_EQUAL(8, frame.length);
+  Payload payload = decode_payload(frame.data);
+  LONGS_EQUAL(0x2345, payload.sample_counter);
+  LONGS_EQUAL(0x5, payload.alive_counter);
+  LONGS_EQUAL(0, payload.flags);
+  CHECK_EQUAL(0.75, physical<double>(kSeatInput.signals[0], payload.words[0]));
+  CHECK_TRUE(not_available(kSeatInput.signals[1], payload.words[1]));
+
+  frame = make_input_frame(-50.0, 3, &saturated);
+  CHECK_TRUE(saturated);
+  payload = decode_payload(frame.data);
+  LONGS_EQUAL(kAuSaturated, payload.flags & kAuSaturated);
+  CHECK_EQUAL(-kSignedMax / 1024.0, physical<double>(kSeatInput.signals[0], payload.words[0]));
+  CHECK_TRUE(crc_ok(kSeatInput, frame.data));
+}
+
+TEST(Codec, PayloadFieldsRoundTripForEveryMessage) {
+  for (const MessageSpec* message : kMessages) {
+    Payload in;
+    in.sample_counter = 0xBEEF;
+    in.alive_counter = 9;
+    in.flags = 0xA;
+    in.words[0] = 0x8001;
+    in.words[1] = 0x7FFE;
+    std::uint8_t bytes[8];
+    encode_payload(*message, in, bytes);
+    CHECK_TRUE(crc_ok(*message, bytes));
+    const Payload out = decode_payload(bytes);
+    LONGS_EQUAL(in.sample_counter, out.sample_counter);
+    LONGS_EQUAL(in.alive_counter, out.alive_counter);
+    LONGS_EQUAL(in.flags, out.flags);
+    LONGS_EQUAL(in.words[0], out.words[0]);
+    LONGS_EQUAL(in.words[1], out.words[1]);
+    POINTERS_EQUAL(message, find_message(message->id));
+  }
+  POINTERS_EQUAL(nullptr, find_message(0x7FF));
+}
+
+TEST(Codec, QuantisedInputIsIdempotent) {
+  for (double value = -30.0; value < 30.0; value += 0.377) {
+    const double once = quantised_input(value);
+    CHECK_EQUAL(once, quantised_input(once));
+  }
+}

@@ -25,8 +25,7 @@ std::unique_ptr<Transport> make_transport(const std::string& bus_name) {
 }
 
 std::string default_bus_name() {
-  // Placeholder: the SocketCAN endpoint decides when it lands.
-  return "loopback";
+  return can_interface_is_up("vcan0") ? "vcan0" : "loopback";
 }
 
 }  // namespace stickslip::port

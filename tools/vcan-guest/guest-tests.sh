@@ -94,6 +94,26 @@ replay_over_vcan() {
 }
 check "stickslip replay --bus $iface == offline, bit for bit" replay_over_vcan
 
+# The issue's full recording: 120 s of lorry data replayed over vcan0 by the project's replay
+# equals the offline result (loopback replay == simulate on the quantised samples), bit for bit.
+full_duration="${VCAN_FULL_DURATION_S:-120}"
+full_samples=$(awk "BEGIN { printf \"%d\", $full_duration / 0.001 + 1.5 }")
+full_recording_over_vcan() {
+  timeout 120 stickslip generate --kind lorry --rms 0.35 --duration "$full_duration" --dt 0.001 --seed 1 \
+      --output "$out/full.csv" >/dev/null &&
+    timeout 300 stickslip replay --input "$out/full.csv" --bus loopback --output "$out/full-loopback.csv" $model \
+      >/dev/null &&
+    timeout 300 stickslip simulate --input "$out/full-loopback.csv" --output "$out/full-simulate.csv" $model \
+      --repetitions 1 >/dev/null &&
+    same_file "$out/full-simulate.csv" "$out/full-loopback.csv" || return 1
+  timeout 600 stickslip replay --input "$out/full.csv" --bus "$iface" --output "$out/full-vcan.csv" $model \
+      > "$out/full-vcan.txt" || return 1
+  tail -n 1 "$out/full-vcan.txt" > "$out/full-vcan.json"
+  expect "$out/full-vcan.json" accepted "$full_samples" && expect_clean "$out/full-vcan.json" &&
+    same_file "$out/full-vcan.csv" "$out/full-loopback.csv"
+}
+check "$full_duration s recording: replay --bus $iface == loopback replay == simulate, bit for bit" full_recording_over_vcan
+
 # The node alone (stickslip ecu) fed by can-utils' canplayer from a log that stickslip record
 # wrote, while candump -l captures the input frames; then the capture is read back.
 canplayer_to_ecu() {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The real-kernel vcan test (CTest: vcan.guest, label vcan).
 #   run.sh --work DIR --stickslip PATH --test-binary PATH
-# Environment: VCAN_DURATION_S (recording replayed over vcan0, default 10 s), VCAN_BURST_S
+# Environment: VCAN_DURATION_S (recording replayed over vcan0, default 10 s), VCAN_FULL_DURATION_S
+# (the full recording replayed by stickslip replay over vcan0, default 120 s), VCAN_BURST_S
 # (cangen burst, default 10 s), VCAN_QEMU_TIMEOUT (default 600 s).
 # Where this host has vcan0 up, runs guest-tests.sh natively. Otherwise builds the guest
 # (build-initramfs.sh, cached in DIR) and boots it with qemu-system-x86_64 under TCG; the guest
@@ -58,7 +59,7 @@ echo "vcan: guest built after $(elapsed) s; booting (TCG, timeout ${qemu_timeout
 # Settings for guest-tests.sh: the kernel hands unknown name=value arguments to /init as
 # environment variables.
 guest_environment=""
-for name in VCAN_DURATION_S VCAN_BURST_S; do
+for name in VCAN_DURATION_S VCAN_FULL_DURATION_S VCAN_BURST_S; do
   [ -n "${!name:-}" ] && guest_environment+=" $name=${!name}"
 done
 kernel="$work/vmlinuz"

@@ -360,10 +360,25 @@ ConfigResult discretise(const OscillatorParams& p, DiscreteModel& out) noexcept 
   if (sticking && p.integrator == Integrator::symplectic) {
     const double zeta = p.damping_ns_per_m / (2.0 * std::sqrt(p.stiffness_n_per_m * p.mass_kg));
     const double needed = kSymplecticEventDampingFactor * omega0 * omega0 * p.dt_s * p.dt_s;
+    if (zeta < needed && zeta == 0.0) {
+      // The limit dt <= sqrt(zeta / 0.25) / omega0 is 0: there is no stable dt to quote.
+      r = fail(Status::unstable, "damping_ns_per_m");
+      r.message.append("symplectic with ")
+          .append(model_name(p.model))
+          .append(" events gains energy at reversals; without damping no dt is stable")
+          .append(" (stability limit: damping ratio >= 0.25")
+          .append(" (omega0 dt)^2 = ")
+          .append(needed, 4)
+          .append(" at dt = ")
+          .append(p.dt_s)
+          .append(" s); use damping > 0, or exact/rk4");
+      return r;
+    }
     if (zeta < needed) {
       r = fail(Status::unstable, "damping_ns_per_m");
+      // Kept under StatusMessage's 240 characters, the advice at the end included.
       r.message.append("symplectic with stick-slip events gains about 1.35 (omega0 dt)^2 of energy")
-          .append(" per cycle at reversals; damping ratio ")
+          .append(" per cycle; damping ratio ")
           .append(zeta, 4)
           .append(" is below its stability limit ")
           .append(needed, 4)

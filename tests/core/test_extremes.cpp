@@ -432,3 +432,36 @@ TEST(Extremes, NonFiniteInputIsReplacedByThePreviousSample) {
     check_non_finite_input_is_replaced<float>(model);
   }
 }
+
+// Symplectic with a sticking law needs damping ratio >= 0.25 (omega0 dt)^2: without damping the
+// refusal says that no dt is stable (it once quoted "use dt <= 0 s"), names damping and the limit.
+TEST(Extremes, UndampedSymplecticStickingRefusalSaysNoDtIsStable) {
+  for (FrictionModel model : {FrictionModel::stick_slip, FrictionModel::stribeck}) {
+    for (double dt : {1e-5, 1e-3, 0.05}) {
+      OscillatorParams p = test::reference_params(model, Integrator::symplectic, dt, 0.0);
+      p.kinetic_friction_n = 40.0;
+      p.static_friction_n = 50.0;
+      with_oscillator<double>(p, [&](auto& seat) {
+        const auto config = seat.configure(p);
+        CHECK(config.status == Status::unstable);
+        CHECK_TEXT(starts_with(config.message.c_str(), "damping_ns_per_m:"), config.message.c_str());
+        STRCMP_CONTAINS("no dt is stable", config.message.c_str());
+        STRCMP_CONTAINS("stability limit", config.message.c_str());
+        CHECK_TEXT(std::strstr(config.message.c_str(), "dt <= 0 s") == nullptr, config.message.c_str());
+        // The whole message fits the fixed-capacity StatusMessage (ends with its advice).
+        STRCMP_CONTAINS("or exact/rk4", config.message.c_str());
+        return 0;
+      });
+    }
+  }
+  // Lightly damped (ratio 0.05 < 0.25 (omega0 dt)^2 = 0.081 at 50 ms): the limit dt is quoted,
+  // and that message fits too.
+  OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::symplectic, 0.05,
+                                              0.05 * 2.0 * std::sqrt(test::kStiffnessNPerM * test::kMassKg));
+  p.kinetic_friction_n = p.static_friction_n = 40.0;
+  Oscillator<double, CoulombStickSlip> seat;
+  const auto config = seat.configure(p);
+  CHECK(config.status == Status::unstable);
+  STRCMP_CONTAINS("use dt <= 0.039", config.message.c_str());
+  STRCMP_CONTAINS("or exact/rk4", config.message.c_str());
+}

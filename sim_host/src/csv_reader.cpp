@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <system_error>
 
 #include "stickslip/host/error.hpp"
@@ -15,6 +16,7 @@ namespace stickslip::host {
 namespace {
 
 constexpr std::size_t kBlockBytes = std::size_t{1} << 22;
+constexpr double kMaxAbsTime = 0.5 * std::numeric_limits<double>::max();
 
 std::string_view trim(std::string_view text) noexcept {
   while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
@@ -180,6 +182,12 @@ SampledSignal read_signal_csv(const std::string& path) {
   double first_step = 0.0;
   while (reader.next_row()) {
     const double t = reader.number(t_column);
+    // Keeps every difference of two times finite (t = 1e308 after -1e308 would overflow, raise
+    // FE_OVERFLOW and give dt = inf).
+    if (!(std::fabs(t) <= kMaxAbsTime)) {
+      throw HostError(fmt::format("{}column 't': {} is beyond the time range |t| <= {} s",
+                                  reader.where(), t, kMaxAbsTime));
+    }
     const double a_u = reader.number(a_u_column);
     const std::size_t n = signal.t_s.size();
     if (n >= 1) {

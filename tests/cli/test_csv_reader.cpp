@@ -126,3 +126,10 @@ TEST(CsvReader, MissingFileAndDirectoryAreNamed) {
     STRCMP_CONTAINS("it is a directory", error.what());
   }
 }
+
+// t values that are finite but whose step is not (found by fuzz/fuzz_csv_reader.cpp's invariant
+// dt finite): refused naming the column, without raising an overflow on the way.
+TEST(CsvReader, RefusesAStepBeyondTheRangeOfADouble) {
+  const std::string message = read_error(dir, "t,a_u\n-1e308,0\n1e308,1\n");
+  STRCMP_CONTAINS("in.csv:2: column 't': -1e+308 is beyond the time range", message.c_str());
+}

@@ -3,13 +3,15 @@
 # available); prints what it does and fails clearly when it cannot install.
 #   tools/install-deps.sh            build and test dependencies
 #   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind)
+#   tools/install-deps.sh --fuzz     also clang and libFuzzer (tools/fuzz.sh)
 set -euo pipefail
 
 packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev)
 for group in "$@"; do
   case "$group" in
     --report) packages+=(gnuplot-nox valgrind) ;;
-    *) echo "install-deps: unknown group '$group' (known: --report)" >&2; exit 2 ;;
+    --fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
+    *) echo "install-deps: unknown group '$group' (known: --report, --fuzz)" >&2; exit 2 ;;
   esac
 done
 

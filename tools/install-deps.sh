@@ -5,6 +5,7 @@
 #   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind,
 #                                    python3 and qemu-system-arm for tools/embedded-report.sh)
 #   tools/install-deps.sh --figures  also what tools/paper-figures.sh needs (gnuplot)
+#   tools/install-deps.sh --fuzz     also clang and libFuzzer (tools/fuzz.sh)
 set -euo pipefail
 
 packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev
@@ -17,7 +18,8 @@ for group in "$@"; do
   case "$group" in
     --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm) ;;
     --figures) packages+=(gnuplot-nox) ;;
-    *) echo "install-deps: unknown group '$group' (known: --report, --figures)" >&2; exit 2 ;;
+    --fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
+    *) echo "install-deps: unknown group '$group' (known: --report, --figures, --fuzz)" >&2; exit 2 ;;
   esac
 done
 

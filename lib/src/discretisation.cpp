@@ -11,6 +11,10 @@ namespace {
 using Real = long double;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxMagnitude = 1e9;       // bound on forces, masses, stiffnesses: keeps products finite
+// Lower bounds that keep every coefficient a finite, normal number in float as well (k/m, 1/dt,
+// 1/v_S, the maps of dt/2^16): a denormal dt or v_S reached the float step as 0 or infinity.
+constexpr double kMinMagnitude = 1e-6;      // mass_kg, stiffness_n_per_m
+constexpr double kMinStep = 1e-9;           // dt_s, stribeck_velocity_m_per_s, smoothing constant
 constexpr double kStabilityTolerance = 1e-12;  // spectral radius 1 + rounding still counts as stable
 // Semi-implicit Euler restarted at in-step reversals drifts energy by about 1.35 (omega0 dt)^2 per
 // cycle (measured: a staggered velocity does not survive the restart); viscous damping removes
@@ -299,12 +303,12 @@ EventSearchPlan event_search_plan(const OscillatorParams& p, double epsilon) noe
 ConfigResult discretise(const OscillatorParams& p, DiscreteModel& out) noexcept {
   ConfigResult r;
   if (!check_finite(p, r)) return r;
-  if (!check_range("mass_kg", p.mass_kg, 0.0, false, kMaxMagnitude, "kg", r)) return r;
-  if (!check_range("stiffness_n_per_m", p.stiffness_n_per_m, 0.0, false, kMaxMagnitude, "N/m", r))
+  if (!check_range("mass_kg", p.mass_kg, kMinMagnitude, true, kMaxMagnitude, "kg", r)) return r;
+  if (!check_range("stiffness_n_per_m", p.stiffness_n_per_m, kMinMagnitude, true, kMaxMagnitude, "N/m", r))
     return r;
   if (!check_range("damping_ns_per_m", p.damping_ns_per_m, 0.0, true, kMaxMagnitude, "N s/m", r))
     return r;
-  if (!check_range("dt_s", p.dt_s, 0.0, false, 1.0, "s", r)) return r;
+  if (!check_range("dt_s", p.dt_s, kMinStep, true, 1.0, "s", r)) return r;
   const bool has_friction = p.model != FrictionModel::linear;
   const bool sticking = p.model == FrictionModel::stick_slip || p.model == FrictionModel::stribeck;
   if (has_friction &&
@@ -324,11 +328,11 @@ ConfigResult discretise(const OscillatorParams& p, DiscreteModel& out) noexcept 
     }
   }
   if (p.model == FrictionModel::stribeck &&
-      !check_range("stribeck_velocity_m_per_s", p.stribeck_velocity_m_per_s, 0.0, false, 1e3,
+      !check_range("stribeck_velocity_m_per_s", p.stribeck_velocity_m_per_s, kMinStep, true, 1e3,
                    "m/s", r))
     return r;
   if (p.model == FrictionModel::smooth &&
-      !check_range("smoothing_constant_s_per_m", p.smoothing_constant_s_per_m, 0.0, false, 1e12,
+      !check_range("smoothing_constant_s_per_m", p.smoothing_constant_s_per_m, kMinStep, true, 1e12,
                    "s/m", r))
     return r;
 
@@ -360,10 +364,25 @@ ConfigResult discretise(const OscillatorParams& p, DiscreteModel& out) noexcept 
   if (sticking && p.integrator == Integrator::symplectic) {
     const double zeta = p.damping_ns_per_m / (2.0 * std::sqrt(p.stiffness_n_per_m * p.mass_kg));
     const double needed = kSymplecticEventDampingFactor * omega0 * omega0 * p.dt_s * p.dt_s;
+    if (zeta < needed && zeta == 0.0) {
+      // The limit dt <= sqrt(zeta / 0.25) / omega0 is 0: there is no stable dt to quote.
+      r = fail(Status::unstable, "damping_ns_per_m");
+      r.message.append("symplectic with ")
+          .append(model_name(p.model))
+          .append(" events gains energy at reversals; without damping no dt is stable")
+          .append(" (stability limit: damping ratio >= 0.25")
+          .append(" (omega0 dt)^2 = ")
+          .append(needed, 4)
+          .append(" at dt = ")
+          .append(p.dt_s)
+          .append(" s); use damping > 0, or exact/rk4");
+      return r;
+    }
     if (zeta < needed) {
       r = fail(Status::unstable, "damping_ns_per_m");
+      // Kept under StatusMessage's 240 characters, the advice at the end included.
       r.message.append("symplectic with stick-slip events gains about 1.35 (omega0 dt)^2 of energy")
-          .append(" per cycle at reversals; damping ratio ")
+          .append(" per cycle; damping ratio ")
           .append(zeta, 4)
           .append(" is below its stability limit ")
           .append(needed, 4)

@@ -37,7 +37,10 @@ StatusMessage& StatusMessage::append(double value, int significant) noexcept {
     value = -value;
   }
   int exponent = static_cast<int>(std::floor(std::log10(value)));
-  double scaled = value / std::pow(10.0, exponent);
+  // Subnormal values: 10^exponent itself would underflow to 0 (and scaled become infinite), so
+  // scale by 1e300 first.
+  double scaled = exponent < -300 ? (value * 1e300) / std::pow(10.0, exponent + 300)
+                                  : value / std::pow(10.0, exponent);
   // Round to `significant` digits; rounding may carry into a new leading digit.
   double factor = std::pow(10.0, significant - 1);
   double digits_value = std::nearbyint(scaled * factor);

@@ -50,7 +50,7 @@ const char* option_for(const std::string& parameter) {
   return nullptr;
 }
 
-// "--mass: mass_kg: must be > 0 ..." or, for the step, "IN.csv: dt_s: ..." (dt comes from t).
+// "--mass: mass_kg: must be >= 1e-06 ..." or, for the step, "IN.csv: dt_s: ..." (dt comes from t).
 std::string explain_configuration_error(const std::string& core_message,
                                         const std::string& input_path, double dt_s) {
   const std::string parameter = core_message.substr(0, core_message.find(':'));

@@ -105,6 +105,6 @@ TEST(SimulateWithReferenceIntegrator, RefusesWhatTheCoreRefuses) {
   arguments.push_back("-3");
   const CliRun run = run_stickslip(arguments);
   LONGS_EQUAL(1, run.status);
-  STRCMP_CONTAINS("stickslip: --mass: mass_kg: must be > 0", run.err.c_str());
+  STRCMP_CONTAINS("stickslip: --mass: mass_kg: must be >= 1e-06", run.err.c_str());
   CHECK_FALSE(stickslip::test::exists(dir.file("out.csv")));
 }

@@ -118,7 +118,7 @@ TEST(SimulateErrors, UnknownFlagModelIntegratorScalarOrSmoothing) {
 TEST(SimulateErrors, InvalidParametersNameTheOptionAndTheLimit) {
   const std::string in = write_input("t,a_u\n0,1\n0.001,2\n0.002,0\n");
   expect_refused({"--input", in, "--model", "signum", "--mass", "-1"},
-                 "--mass: mass_kg: must be > 0 and <= 1e+09 kg, got -1");
+                 "--mass: mass_kg: must be >= 1e-06 and <= 1e+09 kg, got -1");
   expect_refused({"--input", in, "--model", "stick-slip", "--ffk", "45", "--ffs", "30"},
                  "--ffs: static_friction_n: F_fs = 30 N is below the kinetic friction F_fk = 45 N; "
                  "static friction must be >= kinetic");

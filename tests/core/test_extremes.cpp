@@ -360,6 +360,11 @@ TEST(Extremes, BadParametersAreRefusedNamingTheParameter) {
       {"dt_s:", Status::out_of_range, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.dt_s = 0.0; }},
       {"dt_s:", Status::out_of_range, FrictionModel::linear, [](OscillatorParams& p, double, double) { p.dt_s = -1e-3; }},
       {"dt_s:", Status::not_finite, FrictionModel::stick_slip, [](OscillatorParams& p, double n, double) { p.dt_s = n; }},
+      // Denormal or tiny values reached the float step as 0 or infinity (found by fuzzing).
+      {"dt_s:", Status::out_of_range, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.dt_s = 3.4e-315; }},
+      {"stribeck_velocity_m_per_s:", Status::out_of_range, FrictionModel::stribeck, [](OscillatorParams& p, double, double) { p.stribeck_velocity_m_per_s = 1e-300; }},
+      {"mass_kg:", Status::out_of_range, FrictionModel::linear, [](OscillatorParams& p, double, double) { p.mass_kg = 1e-300; }},
+      {"stiffness_n_per_m:", Status::out_of_range, FrictionModel::signum, [](OscillatorParams& p, double, double) { p.stiffness_n_per_m = 1e-12; }},
       // The in-step event search needs omega0 dt <= pi/2 (dt <= 0.138 s here).
       {"dt_s:", Status::out_of_range, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.dt_s = 0.2; }},
   };
@@ -431,4 +436,50 @@ TEST(Extremes, NonFiniteInputIsReplacedByThePreviousSample) {
     check_non_finite_input_is_replaced<double>(model);
     check_non_finite_input_is_replaced<float>(model);
   }
+}
+
+// Symplectic with a sticking law needs damping ratio >= 0.25 (omega0 dt)^2: without damping the
+// refusal says that no dt is stable (it once quoted "use dt <= 0 s"), names damping and the limit.
+TEST(Extremes, UndampedSymplecticStickingRefusalSaysNoDtIsStable) {
+  for (FrictionModel model : {FrictionModel::stick_slip, FrictionModel::stribeck}) {
+    for (double dt : {1e-5, 1e-3, 0.05}) {
+      OscillatorParams p = test::reference_params(model, Integrator::symplectic, dt, 0.0);
+      p.kinetic_friction_n = 40.0;
+      p.static_friction_n = 50.0;
+      with_oscillator<double>(p, [&](auto& seat) {
+        const auto config = seat.configure(p);
+        CHECK(config.status == Status::unstable);
+        CHECK_TEXT(starts_with(config.message.c_str(), "damping_ns_per_m:"), config.message.c_str());
+        STRCMP_CONTAINS("no dt is stable", config.message.c_str());
+        STRCMP_CONTAINS("stability limit", config.message.c_str());
+        CHECK_TEXT(std::strstr(config.message.c_str(), "dt <= 0 s") == nullptr, config.message.c_str());
+        // The whole message fits the fixed-capacity StatusMessage (ends with its advice).
+        STRCMP_CONTAINS("or exact/rk4", config.message.c_str());
+        return 0;
+      });
+    }
+  }
+  // Lightly damped (ratio 0.05 < 0.25 (omega0 dt)^2 = 0.081 at 50 ms): the limit dt is quoted,
+  // and that message fits too.
+  OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::symplectic, 0.05,
+                                              0.05 * 2.0 * std::sqrt(test::kStiffnessNPerM * test::kMassKg));
+  p.kinetic_friction_n = p.static_friction_n = 40.0;
+  Oscillator<double, CoulombStickSlip> seat;
+  const auto config = seat.configure(p);
+  CHECK(config.status == Status::unstable);
+  STRCMP_CONTAINS("use dt <= 0.039", config.message.c_str());
+  STRCMP_CONTAINS("or exact/rk4", config.message.c_str());
+}
+
+// The refusal of a subnormal value quotes it: the message formatter once divided by 10^-324 = 0
+// (UBSan: NaN converted to int; found by fuzzing configure()).
+TEST(Extremes, RefusalQuotesSubnormalValues) {
+  OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::exact, 4.9406564584124654e-324);
+  Oscillator<double, CoulombStickSlip> seat;
+  const auto config = seat.configure(p);
+  CHECK(config.status == Status::out_of_range);
+  STRCMP_CONTAINS("got 4.94066e-324", config.message.c_str());
+  StatusMessage message;
+  message.append(2.2250738585072014e-308 / 4.0).append(" ").append(-1e-310, 3);
+  STRCMP_EQUAL("5.56268e-309 -1e-310", message.c_str());
 }

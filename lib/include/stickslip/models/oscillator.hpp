@@ -370,6 +370,14 @@ class Oscillator {
     return bit;
   }
 
+  // The rounding of v_r over a block of `level` started near rest: 8 ulp of the velocity change
+  // each acceleration term alone would make (spring, friction, input at both ends) over it.
+  T rest_rounding_velocity(int level, T x, T force_n, T a_u_start, const Input& in) const noexcept {
+    const T terms = S::abs(k_over_m_ * x) + S::abs(inv_mass_ * force_n) + S::abs(a_u_start) +
+                    S::abs(in.a0) + S::abs(in.a1);
+    return T(8) * S::epsilon() * block_s_[level] * terms;
+  }
+
   // The generalised input g = -(a_u + F_f/m) changes by this much per tick (first-order hold).
   T input_slope_per_tick(const Input& in) const noexcept { return -(in.a1 - in.a0) * inv_ticks_; }
 
@@ -448,6 +456,10 @@ class Oscillator {
         const T x_end = x + h * (v + kHalf * a * h);
         T v_end = v + h * (a + kHalf * jerk * h);
         if (starting && v_end * d < T(0)) v_end = T(0);
+        // At rest to rounding (see the block loop below): 0, not a denormal-bound speck.
+        if (S::abs(v) <= rest_rounding_velocity(event_level_, x, f, in.at(phi(pos)), in) &&
+            S::abs(v_end) <= rest_rounding_velocity(event_level_, x, f, in.at(phi(pos)), in))
+          v_end = T(0);
         if (v_end * d < T(0)) {
           const T theta = v / (v - v_end);
           x = x + theta * (x_end - x);
@@ -477,7 +489,22 @@ class Oscillator {
         } else {
           advance_block(x_end, v_end, pos.tick, level, in, force);
         }
-        const bool crossed = v_end * d < T(0);
+        bool crossed = v_end * d < T(0);
+        // Interpolating integrators: a block that starts at rest to rounding (a slip start, or a
+        // clamp) with the seat balanced at the break-away limit (a_r ~ 0) ends with a v_r of
+        // either sign by rounding alone, and linear interpolation would put an "event" near the
+        // block start, spending an event per tick with no progress (float stick-slip and Stribeck
+        // scenes exhausted their budget so). A crossing within that rounding is no event: v_r is
+        // clamped at 0 (also when it stays positive: a speck of 1e-33 m/s would only feed
+        // denormal products, FE_UNDERFLOW in float). A genuine stick still shows once a_r exceeds
+        // the rounding of its terms.
+        if (taylor_.order == 0) {
+          const T rounding = rest_rounding_velocity(level, x, force_start, a_u_start, in);
+          if (S::abs(v) <= rounding && S::abs(v_end) <= rounding) {
+            v_end = T(0);
+            crossed = false;
+          }
+        }
         bool dip = false;  // |v| fell and rose again inside the block: it may have crossed twice
         if (!crossed && a_start * d < T(0)) {
           const T a_end = known ? whole_step->a_end

@@ -34,6 +34,7 @@ class CsvReader {
   std::string where() const;
 
  private:
+  void read_header();
   bool read_line(std::string_view& line);
   void split(std::string_view line);
 

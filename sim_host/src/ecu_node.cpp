@@ -72,17 +72,7 @@ class SeatModelFor final : public SeatModel {
   }
 
   void summarise(SimulationSummary& summary) const override {
-    summary.samples = statistics_.samples();
-    summary.steps = statistics_.steps();
-    summary.rms_u = statistics_.rms_u();
-    summary.rms_x = statistics_.rms_x();
-    summary.transmissibility = statistics_.transmissibility();
-    summary.stick_probability = statistics_.stick_probability();
-    summary.events = events_;
-    const Oscillator<T, Law>& oscillator = observer_.model();
-    summary.rejected_inputs = oscillator.rejected_inputs();
-    summary.event_budget_exhausted = oscillator.event_budget_exhausted();
-    summary.state_resets = oscillator.state_resets();
+    summarise_run(summary, statistics_, observer_.model(), events_);
     const RideComfort<T>& comfort = observer_.comfort();
     summary.comfort = comfort.samples() > 0;
     summary.floor_weighted_rms = comfort.floor_weighted_rms();
@@ -145,16 +135,7 @@ class SeatModelFixed final : public SeatModel {
     return convert(out);
   }
   void summarise(SimulationSummary& summary) const override {
-    summary.samples = statistics_.samples();
-    summary.steps = statistics_.steps();
-    summary.rms_u = statistics_.rms_u();
-    summary.rms_x = statistics_.rms_x();
-    summary.transmissibility = statistics_.transmissibility();
-    summary.stick_probability = statistics_.stick_probability();
-    summary.events = events_;
-    summary.rejected_inputs = oscillator_.rejected_inputs();
-    summary.event_budget_exhausted = oscillator_.event_budget_exhausted();
-    summary.state_resets = oscillator_.state_resets();
+    summarise_run(summary, statistics_, oscillator_, events_);
     summary.saturated_steps = oscillator_.saturated_steps() + (start_saturated_ ? 1u : 0u);
   }
   ObserverSummary observed() const override {

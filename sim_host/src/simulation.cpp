@@ -167,22 +167,13 @@ SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
     std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
 
     SimulationSummary summary;
-    summary.samples = statistics.samples();
-    summary.steps = statistics.steps();
+    summarise_run(summary, statistics, oscillator, events);
     summary.dt_s = setup.params.dt_s;
-    summary.rms_u = statistics.rms_u();
-    summary.rms_x = statistics.rms_x();
-    summary.transmissibility = statistics.transmissibility();
-    summary.stick_probability = statistics.stick_probability();
     summary.den_hartog_k =
         den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
     summary.ns_per_sample =
         seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
     summary.repetitions = repetitions;
-    summary.events = events;
-    summary.rejected_inputs = oscillator.rejected_inputs();
-    summary.event_budget_exhausted = oscillator.event_budget_exhausted();
-    summary.state_resets = oscillator.state_resets();
     summary.saturated_steps = saturated_steps;
     return summary;
   });
@@ -256,23 +247,14 @@ SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vecto
     std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
 
     SimulationSummary summary;
-    summary.samples = statistics.samples();
-    summary.steps = statistics.steps();
+    summarise_run(summary, statistics, oscillator, events);
     summary.dt_s = setup.params.dt_s;
-    summary.rms_u = statistics.rms_u();
-    summary.rms_x = statistics.rms_x();
-    summary.transmissibility = statistics.transmissibility();
-    summary.stick_probability = statistics.stick_probability();
     // K describes the scene (its friction against its excitation), whichever model runs it.
     summary.den_hartog_k =
         den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
     summary.ns_per_sample =
         seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
     summary.repetitions = repetitions;
-    summary.events = events;
-    summary.rejected_inputs = oscillator.rejected_inputs();
-    summary.event_budget_exhausted = oscillator.event_budget_exhausted();
-    summary.state_resets = oscillator.state_resets();
     return summary;
   });
 }

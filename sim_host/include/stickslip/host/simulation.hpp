@@ -79,6 +79,24 @@ class ConfigurationError : public HostError {
   explicit ConfigurationError(const std::string& core_message) : HostError(core_message) {}
 };
 
+// The summary's run figures from a run's statistics and its model's counters (any scalar type,
+// any model with rejected_inputs(), event_budget_exhausted(), state_resets()): the one place
+// simulate, simulate --scalar fixed and the ECU node fill them.
+template <typename Statistics, typename Model>
+void summarise_run(SimulationSummary& summary, const Statistics& statistics, const Model& model,
+                   std::uint64_t events) {
+  summary.samples = statistics.samples();
+  summary.steps = statistics.steps();
+  summary.rms_u = statistics.rms_u();
+  summary.rms_x = statistics.rms_x();
+  summary.transmissibility = statistics.transmissibility();
+  summary.stick_probability = statistics.stick_probability();
+  summary.events = events;
+  summary.rejected_inputs = model.rejected_inputs();
+  summary.event_budget_exhausted = model.event_budget_exhausted();
+  summary.state_resets = model.state_resets();
+}
+
 // Fills the summary's ride-comfort figures from a finished run's input and seat acceleration
 // (RideComfort<double>, Wk at 1/dt_s); throws ConfigurationError if the weighting refuses dt_s.
 template <typename T>

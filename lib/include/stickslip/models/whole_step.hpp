@@ -79,7 +79,9 @@ constexpr WholeSlip<T> whole_step_slip(const StepMap<T>& map, T k_over_m, T b_ov
 template <typename T>
 inline bool slip_step_has_event(const WholeSlip<T>& s, T d) noexcept {
   const bool crossed = s.v * d < T(0);
-  const bool dip = (s.a_start * d < T(0)) & (s.a_end * d > T(0));
+  // Non-short-circuit on purpose (no branch); as ints, since for a class scalar (fixed point)
+  // each side is a call that clang would otherwise want sequenced with &&.
+  const bool dip = static_cast<int>(s.a_start * d < T(0)) & static_cast<int>(s.a_end * d > T(0));
   return crossed | dip | !finite_quietly(s.seat_acceleration);
 }
 

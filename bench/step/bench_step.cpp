@@ -187,6 +187,19 @@ std::vector<T> interleaved_inputs(std::size_t lanes, bool own) {
   return out;
 }
 
+// The counters every batch/singles/interleaved benchmark reports for its lane-steps.
+void set_lane_counters(benchmark::State& state, std::size_t lane_steps, std::uint64_t events,
+                       double p_stick_lane0) {
+  const auto samples = static_cast<double>(lane_steps);
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(lane_steps));
+  state.counters["time_per_sample"] = benchmark::Counter(
+      samples, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["events_per_1k"] = 1000.0 * static_cast<double>(events) / samples;
+  // Per iteration (not a rate): lets an instruction count of one iteration be divided out.
+  state.counters["lane_steps"] = samples;
+  state.counters["p_stick_lane0"] = p_stick_lane0;
+}
+
 template <typename T, std::size_t N>
 [[gnu::noinline]] std::uint64_t run_batch(StickSlipBatch<T, N>& batch, BatchStatistics<T, N>& stats,
                                           const T* a_u, std::size_t count) {
@@ -230,14 +243,7 @@ void batch_bench(benchmark::State& state, bool own_inputs) {
     benchmark::DoNotOptimize(events);
     benchmark::ClobberMemory();
   }
-  const auto samples = static_cast<double>((count - 1) * N);
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>((count - 1) * N));
-  state.counters["time_per_sample"] = benchmark::Counter(
-      samples, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  state.counters["events_per_1k"] = 1000.0 * static_cast<double>(events) / samples;
-  // Per iteration (not a rate): lets an instruction count of one iteration be divided out.
-  state.counters["lane_steps"] = samples;
-  state.counters["p_stick_lane0"] = stats.lane(0).stick_probability();
+  set_lane_counters(state, (count - 1) * N, events, stats.lane(0).stick_probability());
 }
 
 // The same N seats and inputs, one single oscillator after another (each with its statistics).
@@ -267,14 +273,7 @@ void singles_bench(benchmark::State& state, bool own_inputs) {
     benchmark::DoNotOptimize(events);
     benchmark::ClobberMemory();
   }
-  const auto samples = static_cast<double>((count - 1) * N);
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>((count - 1) * N));
-  state.counters["time_per_sample"] = benchmark::Counter(
-      samples, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  state.counters["events_per_1k"] = 1000.0 * static_cast<double>(events) / samples;
-  // Per iteration (not a rate): lets an instruction count of one iteration be divided out.
-  state.counters["lane_steps"] = samples;
-  state.counters["p_stick_lane0"] = stats[0].stick_probability();
+  set_lane_counters(state, (count - 1) * N, events, stats[0].stick_probability());
 }
 
 // The same N seats stepped together sample by sample without the batch (an array of single
@@ -321,14 +320,7 @@ void interleaved_bench(benchmark::State& state, bool own_inputs) {
     benchmark::DoNotOptimize(events);
     benchmark::ClobberMemory();
   }
-  const auto samples = static_cast<double>((count - 1) * N);
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>((count - 1) * N));
-  state.counters["time_per_sample"] = benchmark::Counter(
-      samples, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  state.counters["events_per_1k"] = 1000.0 * static_cast<double>(events) / samples;
-  // Per iteration (not a rate): lets an instruction count of one iteration be divided out.
-  state.counters["lane_steps"] = samples;
-  state.counters["p_stick_lane0"] = stats[0].stick_probability();
+  set_lane_counters(state, (count - 1) * N, events, stats[0].stick_probability());
 }
 
 template <typename T, std::size_t N>

@@ -40,12 +40,12 @@ if command -v gnuplot >/dev/null 2>&1; then
     lines="$lines, \"$csv\" every ::1 using 1:8 with linespoints title \"window (worst so far)\", \"$csv\" every ::1 using 1:9 with linespoints title \"exponential window (worst so far)\", \"$csv\" every ::1 using 1:10 with linespoints title \"ride comfort (worst so far)\""
   fi
   gnuplot <<PLOT
-set terminal pngcairo size 900,420 font ",10"
+set terminal pngcairo size 1000,420 font ",10"
 set output "docs/img/$name.png"
 set datafile separator ","
-set key bottom right
+set key outside right
 set logscale xy
-set yrange [1e-5:10]
+set yrange [1e-7:10]
 set format x "10^{%T}"
 set format y "10^{%T}"
 set xlabel "samples (1 ms each)"

@@ -319,7 +319,8 @@ int soak_observer(const Options& o) {
   floor_filter.configure(op.weighting, 1.0 / dt);
   seat_filter.configure(op.weighting, 1.0 / dt);
   const long double exp_gain = static_cast<T>(-std::expm1(-dt / op.exponential_time_s));
-  const long double running_gain = static_cast<T>(-std::expm1(-dt / 1.0));
+  const double comfort_dt = 1.0 / (1.0 / dt);  // RideComfort keeps 1 / its sample rate
+  const long double running_gain = static_cast<T>(-std::expm1(-comfort_dt / 1.0));
   const std::uint32_t per_block =
       static_cast<std::uint32_t>(std::round(op.window_s / (dt * double(kBlocks))));
 
@@ -499,9 +500,9 @@ int soak_observer(const Options& o) {
           relative(comfort.seat_weighted_rms(),
                    static_cast<double>(std::sqrt((seat_sq.total_u + seat_sq.block_u) / total))),
           relative(comfort.floor_vdv(),
-                   static_cast<double>(std::sqrt(std::sqrt((fourth.total_u + fourth.block_u) * dt)))),
+                   static_cast<double>(std::sqrt(std::sqrt((fourth.total_u + fourth.block_u) * comfort_dt)))),
           relative(comfort.seat_vdv(),
-                   static_cast<double>(std::sqrt(std::sqrt((fourth.total_x + fourth.block_x) * dt))))};
+                   static_cast<double>(std::sqrt(std::sqrt((fourth.total_x + fourth.block_x) * comfort_dt))))};
       for (double d : comfort_d) {
         comfort_worst = std::fmax(comfort_worst, against(d, whole_tolerance));
         if (!(d <= whole_tolerance)) report.fail("ride comfort vs blockwise", n, d, whole_tolerance);

@@ -207,7 +207,7 @@ TEST(SimulateReplayProperty, SimulateEqualsReplayBitForBitAndRunsRepeat) {
   }
   // Hundreds compared, each scalar type well represented; the saturation path was exercised.
   CHECK(compared[0] + compared[1] + compared[2] >= 300);
-  for (int count : compared) CHECK(count >= 90);
+  for (int count : compared) CHECK(count >= 80);
   CHECK(saturated_cases >= 10);
   test::note_margin("simulate == replay: double cases compared", compared[0], kCases / 3);
   test::note_margin("simulate == replay: float cases compared", compared[1], kCases / 3);

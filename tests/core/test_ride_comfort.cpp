@@ -1,4 +1,5 @@
 // ISO 2631-1 frequency weightings (Wk, Wd) and the streaming ride-comfort figures.
+#include <cfenv>
 #include <cmath>
 #include <cstddef>
 
@@ -161,6 +162,19 @@ TEST(RideComfort, ShockRaisesMtvvAndCrestFactorAboveTheOverallRms) {
   const double rms_based_vdv = 1.4 * comfort.seat_weighted_rms() * std::pow(60.0, 0.25);
   CHECK_TRUE(comfort.seat_vdv() > rms_based_vdv);  // eVDV underestimates shocks
   DOUBLES_EQUAL(0.0, comfort.seat_ratio(), 0.0);     // no floor motion: SEAT reported as 0
+}
+
+// A floor and seat barely moving (the weighting's start-up on a quantised sample gives the same):
+// weighted samples whose fourth power would be subnormal count as 0 and raise no FE_UNDERFLOW
+// (found by the simulate == replay property: the float observer's VDV sum underflowed).
+TEST(RideComfort, TinyWeightedSamplesRaiseNoUnderflow) {
+  RideComfort<float> comfort;
+  CHECK_TRUE(comfort.configure(ComfortWeighting::wk, 1000.0).ok());
+  std::feclearexcept(FE_ALL_EXCEPT);
+  for (std::size_t n = 0; n < 2000; ++n) comfort.add_sample(1e-9f, n % 2 == 0 ? 1e-9f : -1e-9f);
+  CHECK_FALSE(std::fetestexcept(FE_UNDERFLOW));
+  CHECK_TRUE(comfort.seat_weighted_rms() < 1e-9);
+  CHECK_TRUE(std::isfinite(comfort.seat_vdv()) && std::isfinite(comfort.seat_crest_factor()));
 }
 
 TEST(RideComfort, RefusesAWindowShorterThanOneSample) {

@@ -4,7 +4,7 @@
 //
 //   line      := "(" seconds "." micro ")" " " interface " " frame [" " ("T" | "R")]
 //   seconds   := 1 or more decimal digits;  micro := exactly 6 decimal digits
-//   interface := 1..15 characters, no white space
+//   interface := 1..15 printable ASCII characters other than space (no control bytes, no NUL)
 //   frame     := id3 "#" body | id8 "#" body
 //   id3       := 3 hex digits, a standard id <= 7FF
 //   id8       := 8 hex digits: an error frame when CAN_ERR_FLAG (20000000) is set (the id is
@@ -36,6 +36,10 @@ constexpr std::uint32_t kErrorFlag = 0x20000000u;  // CAN_ERR_FLAG
 constexpr std::uint32_t kErrorClassMask = 0x1FFFFFFFu;  // CAN_ERR_MASK
 constexpr std::size_t kMaxInterfaceLength = 15;  // IFNAMSIZ - 1
 
+// A log line is text: an interface name is printable ASCII without the separating space (a NUL or
+// carriage return in it would not survive the write/read round trip).
+bool interface_character(char c) { return c > ' ' && c < 0x7F; }
+
 bool is_fd_length(unsigned length) {
   return length <= 8 || length == 12 || length == 16 || length == 20 || length == 24 ||
          length == 32 || length == 48 || length == 64;
@@ -66,9 +70,13 @@ class LineParser {
     logged.time_us = seconds * 1000000u + micro;
     expect(' ', "expected one space after the timestamp");
     const std::size_t name_start = at_;
-    while (at_ < text_.size() && text_[at_] != ' ' && text_[at_] != '\t') ++at_;
+    while (at_ < text_.size() && interface_character(text_[at_])) ++at_;
     if (at_ == name_start) fail("expected an interface name after the timestamp");
     if (at_ - name_start > kMaxInterfaceLength) fail("interface name longer than 15 characters");
+    if (at_ < text_.size() && text_[at_] != ' ') {
+      fail("interface name holds a character that is not printable ASCII (byte " +
+           std::to_string(static_cast<unsigned char>(text_[at_])) + ")");
+    }
     logged.interface = std::string(text_.substr(name_start, at_ - name_start));
     expect(' ', "expected one space after the interface name");
     parse_frame(logged.frame);
@@ -256,9 +264,10 @@ void write_candump_log(const std::string& path, const std::vector<LoggedFrame>& 
   for (std::size_t n = 0; n < frames.size(); ++n) {
     const LoggedFrame& logged = frames[n];
     const std::string where = path + ": frame " + std::to_string(n + 1);
-    if (logged.interface.empty() || logged.interface.size() > kMaxInterfaceLength ||
-        logged.interface.find_first_of(" \t\r\n") != std::string::npos) {
-      throw HostError(where + ": interface name must be 1..15 characters without white space");
+    bool printable = true;
+    for (const char c : logged.interface) printable = printable && interface_character(c);
+    if (logged.interface.empty() || logged.interface.size() > kMaxInterfaceLength || !printable) {
+      throw HostError(where + ": interface name must be 1..15 printable ASCII characters other than space");
     }
     char stamp[48];
     std::snprintf(stamp, sizeof stamp, "(%010llu.%06llu) ",

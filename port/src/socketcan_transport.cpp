@@ -203,7 +203,7 @@ class SocketCanTransport final : public Transport {
 #endif
         case ENOBUFS: return TransportStatus::buffer_full;
         case EINVAL: return TransportStatus::invalid_argument;  // e.g. FD on a classic-MTU bus
-        case ENETDOWN:
+        case ENETDOWN: return TransportStatus::interface_down;
         case ENODEV:
         case ENXIO: return TransportStatus::no_such_interface;
         default: return TransportStatus::io_error;
@@ -231,6 +231,8 @@ class SocketCanTransport final : public Transport {
     if (bytes < 0) {
       if (errno == EAGAIN || errno == EWOULDBLOCK) return TransportStatus::timeout;
       if (errno == EBADF) return TransportStatus::closed;
+      if (errno == ENETDOWN) return TransportStatus::interface_down;
+      if (errno == ENODEV) return TransportStatus::no_such_interface;
       return TransportStatus::io_error;
     }
     std::uint64_t timestamp_ns = 0;

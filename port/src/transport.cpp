@@ -15,6 +15,7 @@ const char* transport_status_name(TransportStatus status) noexcept {
     case TransportStatus::invalid_argument: return "invalid argument";
     case TransportStatus::buffer_full: return "buffer full";
     case TransportStatus::io_error: return "i/o error";
+    case TransportStatus::interface_down: return "interface down";
   }
   return "unknown";
 }

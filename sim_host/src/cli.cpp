@@ -53,6 +53,7 @@ struct Options {
   ReplayRequest replay;
   EcuRequest ecu;
   RecordRequest record;
+  PlayRequest play;
   std::string rate = "max";
   std::string ecu_output;
   ModelOptions replay_model, ecu_model;
@@ -61,6 +62,30 @@ struct Options {
 volatile std::sig_atomic_t stop_requested = 0;
 
 extern "C" void request_stop(int) { stop_requested = 1; }
+
+// SIGINT and SIGTERM set stop_requested while this lives (no SA_RESTART: a blocking receive or
+// sleep returns at once); the previous handlers come back with its end.
+class StopOnSignals {
+ public:
+  StopOnSignals() {
+    stop_requested = 0;
+    struct sigaction action = {};
+    action.sa_handler = request_stop;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = 0;
+    sigaction(SIGINT, &action, &old_int_);
+    sigaction(SIGTERM, &action, &old_term_);
+  }
+  ~StopOnSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopOnSignals(const StopOnSignals&) = delete;
+  StopOnSignals& operator=(const StopOnSignals&) = delete;
+
+ private:
+  struct sigaction old_int_ = {}, old_term_ = {};
+};
 
 // --scene: the file's seat, model, integrator and effects into `setup`, then every flag the
 // command was given over them (the flags were parsed into `flags`). Returns the scene.
@@ -307,8 +332,24 @@ void add_ecu(CLI::App& app, Options& o) {
   ecu->add_option("--dt", o.ecu.setup.params.dt_s, "sample interval of the stream, s")
       ->capture_default_str();
   ecu->add_option("--output", o.ecu_output, "write the node's samples as simulate does");
+  ecu->add_option("--receive-buffer", o.ecu.receive_buffer_bytes,
+                  "SocketCAN receive buffer (SO_RCVBUF), bytes; 0: the kernel's default")
+      ->capture_default_str();
+  ecu->add_option("--sample-index", o.ecu.sample_index_path,
+                  "write n,sample,held per row: the sender's sample number of each row, 1 if held");
   add_checker_options(ecu, o.ecu.checker);
   add_model_options(ecu, o.ecu.setup, o.ecu_model);
+}
+
+void add_play(CLI::App& app, Options& o) {
+  CLI::App* play = app.add_subcommand(
+      "play", "Send a recording's SeatInput frames on a bus at a multiple of real time, without a "
+              "node; frames the bus refuses (e.g. while it is down) are counted, not retried");
+  play->add_option("--input", o.play.input_path, "CSV (t,a_u) or candump log (*.log)")->required();
+  play->add_option("--bus", o.play.bus, "loopback | a SocketCAN interface such as vcan0")->required();
+  play->add_option("--speed", o.play.speed, "times real time")->capture_default_str();
+  play->add_option("--dt", o.play.log_dt_s, "sample interval of a candump-log input, s")
+      ->capture_default_str();
 }
 
 void add_record(CLI::App& app, Options& o) {
@@ -348,27 +389,24 @@ int run_ecu_command(CLI::App& ecu, Options& o, std::ostream& out) {
   resolve_model_options(ecu, o.ecu_model, request.setup, request.scalar, &scene_dt_s);
   request.setup.params.dt_s =
       scene_dt_s > 0.0 && ecu.get_option("--dt")->count() == 0 ? scene_dt_s : dt_flag_s;
-  stop_requested = 0;
-  struct sigaction action = {};
-  action.sa_handler = request_stop;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = 0;  // no SA_RESTART: a blocking receive returns at once
-  struct sigaction old_int = {}, old_term = {};
-  sigaction(SIGINT, &action, &old_int);
-  sigaction(SIGTERM, &action, &old_term);
+  const StopOnSignals signals;
   request.stop = &stop_requested;
-  EcuResult result;
-  try {
-    result = run_ecu(request);
-  } catch (...) {
-    sigaction(SIGINT, &old_int, nullptr);
-    sigaction(SIGTERM, &old_term, nullptr);
-    throw;
-  }
-  sigaction(SIGINT, &old_int, nullptr);
-  sigaction(SIGTERM, &old_term, nullptr);
+  const EcuResult result = run_ecu(request);
   out << fault_counters_text(result.faults) << "\n";
   out << result.json << "\n";
+  return kExitOk;
+}
+
+int run_play(Options& o, std::ostream& out) {
+  PlayRequest request = o.play;
+  const StopOnSignals signals;
+  request.stop = &stop_requested;
+  const PlayResult result = play_file(request);
+  out << fmt::format("played {} on {} at {}x: {} of {} frames sent, {} not sent ({} interface "
+                     "down, {} buffer full, {} other)\n",
+                     request.input_path, request.bus, request.speed, result.sent, result.frames,
+                     result.not_sent, result.interface_down, result.buffer_full, result.other_failures);
+  out << result.json << "\n";  // the last line of stdout, for tools
   return kExitOk;
 }
 
@@ -499,15 +537,16 @@ int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {
     add_replay(app, options);
     add_ecu(app, options);
     add_record(app, options);
+    add_play(app, options);
     ExtraCommands extra;  // sweep, merge, psd, harmonic-balance, advise
     extra.add_to(app);
     // CLI11 would only say "A subcommand is required" for a misspelt one.
     const std::string first = argc >= 2 ? argv[1] : "";
     if (!first.empty() && first[0] != '-' && first != "generate" && first != "simulate" &&
-        first != "demo" && first != "replay" && first != "ecu" && first != "record" &&
+        first != "demo" && first != "replay" && first != "ecu" && first != "record" && first != "play" &&
         !ExtraCommands::is_name(first)) {
       throw UsageError(std::string("unknown subcommand '") + argv[1] +
-                       "' (expected generate, simulate, demo, replay, ecu, record, " +
+                       "' (expected generate, simulate, demo, replay, ecu, record, play, " +
                        ExtraCommands::names() + "; see stickslip --help)");
     }
     try {
@@ -528,6 +567,7 @@ int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {
     if (app.got_subcommand("replay")) return run_replay(*app.get_subcommand("replay"), options, out);
     if (app.got_subcommand("ecu")) return run_ecu_command(*app.get_subcommand("ecu"), options, out);
     if (app.got_subcommand("record")) return run_record(options, out);
+    if (app.got_subcommand("play")) return run_play(options, out);
     run_demo(options.demo, out);
     return kExitOk;
   } catch (const UsageError& error) {

@@ -203,27 +203,39 @@ can::FrameVerdict EcuNode::on_frame(const can::Frame& frame, std::uint64_t now_n
   if (frame.id == can::kSeatInput.id && !(frame.flags & can::kExtendedId)) ++input_frames_;
   const bool accepted = result.verdict == can::FrameVerdict::accepted;
   if (accepted || result.hold) {
+    const std::uint16_t counter = result.payload.sample_counter;
+    // The sender's sample number: the counter step as the checker took it (forward, or back
+    // for a restarted sender), added to the last one.
+    const std::int64_t sample =
+        samples_ == 0 ? counter
+                      : last_sample_ + static_cast<std::int16_t>(static_cast<std::uint16_t>(counter - last_counter_));
+    last_counter_ = counter;
     if (samples_ > 0) {
-      for (unsigned i = 0; i < result.lost_samples; ++i) emit(last_a_u_, true, false, outputs);
+      for (unsigned i = 0; i < result.lost_samples; ++i)
+        emit(last_a_u_, true, false, sample - result.lost_samples + i, outputs);
     }
     if (accepted) {
       emit(can::physical<double>(can::kSeatInput.signals[0], result.payload.words[0]), false,
-           result.resync, outputs);
+           result.resync, sample, outputs);
     } else if (samples_ > 0) {
-      emit(last_a_u_, true, false, outputs);
+      emit(last_a_u_, true, false, sample, outputs);
     }
   }
   busy_s_ += static_cast<double>(clock_ns() - start) * 1e-9;
   return result.verdict;
 }
 
-void EcuNode::emit(double a_u, bool held, bool resync, std::vector<can::Frame>& outputs) {
+void EcuNode::emit(double a_u, bool held, bool resync, std::int64_t sample,
+                   std::vector<can::Frame>& outputs) {
   const std::uint64_t index = samples_;
+  if (samples_ == 0) first_sample_ = sample;
+  last_sample_ = sample;
   const SampleOutput out = samples_ == 0 ? model_->first(a_u) : model_->step(a_u);
   ++samples_;
   last_a_u_ = a_u;
   if (config_.keep_trace) {
     trace_.index.push_back(index);
+    trace_.sample.push_back(sample);
     trace_.a_u.push_back(a_u);
     trace_.x_r.push_back(out.x_r);
     trace_.v_r.push_back(out.v_r);
@@ -297,6 +309,7 @@ void for_each_counter(const can::FaultCounters& c, Fn&& fn) {
   fn("alive_mismatch", c.alive_mismatch);
   fn("invalid_signal", c.invalid_signal);
   fn("resync", c.resync);
+  fn("skipped", c.skipped);
   fn("silence", c.silence);
   fn("held_samples", c.held_samples);
   fn("sender_saturated", c.sender_saturated);

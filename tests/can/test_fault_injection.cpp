@@ -248,8 +248,30 @@ TEST(FaultInjection, GapBeyondTheBoundIsACountedResyncWithoutHolding) {
   good_range(20, 21);  // 17 lost > max_gap 10
   check_only(&can::FaultCounters::resync, 1);
   LONGS_EQUAL(0, node->counters().lost);
+  LONGS_EQUAL(17, node->counters().skipped);  // counted, not filled in
   LONGS_EQUAL(5, node->samples());
   LONGS_EQUAL(0, held_rows());
+  // Every counter from the first to the last is accounted for.
+  const can::FaultCounters& c = node->counters();
+  LONGS_EQUAL(21 - 0 + 1, c.accepted + c.invalid_signal + c.lost + c.skipped);
+  // The rows carry the sender's sample numbers, across the gap.
+  LONGS_EQUAL(0, node->first_sample());
+  LONGS_EQUAL(21, node->last_sample());
+  LONGS_EQUAL(2, node->trace().sample[2]);
+  LONGS_EQUAL(20, node->trace().sample[3]);
+}
+
+TEST(FaultInjection, HeldRowsCarryTheSampleNumbersTheyStandInFor) {
+  good_range(65533, 65535);
+  good_range(2, 3);  // the counter wraps; 0 and 1 lost and held
+  LONGS_EQUAL(2, node->counters().lost);
+  const host::NodeTrace& trace = node->trace();
+  LONGS_EQUAL(7, trace.sample.size());
+  for (std::size_t row = 0; row < trace.sample.size(); ++row)
+    LONGS_EQUAL(65533 + static_cast<long>(row), trace.sample[row]);  // counts on past 2^16
+  LONGS_EQUAL(1, trace.held[3]);
+  LONGS_EQUAL(1, trace.held[4]);
+  LONGS_EQUAL(0, trace.held[5]);
 }
 
 TEST(FaultInjection, RestartedSenderIsFollowedAfterAShortRun) {

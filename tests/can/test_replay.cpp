@@ -145,6 +145,7 @@ TEST(EcuCommand, NodeAloneConsumesFramesUntilTheFrameLimitAndReportsCounters) {
   request.setup.params.kinetic_friction_n = request.setup.params.static_friction_n = 45.0;
   request.max_frames = 60;
   request.output_path = dir.file("ecu.csv");
+  request.sample_index_path = dir.file("ecu.idx");
   host::EcuResult result;
   std::thread ecu([&] { result = host::run_ecu(request); });
   auto tester = port::make_loopback_transport();
@@ -184,6 +185,15 @@ TEST(EcuCommand, NodeAloneConsumesFramesUntilTheFrameLimitAndReportsCounters) {
   const auto lines = stickslip::test::split_lines(stickslip::test::read_text(request.output_path));
   LONGS_EQUAL(52, lines.size());
   STRCMP_EQUAL("t,a_u,x_r,v_r,a_x,f_f,stuck", lines[0].c_str());
+  // The sender's sample number of every row.
+  LONGS_EQUAL(0, json["first_sample"].get<int>());
+  LONGS_EQUAL(50, json["last_sample"].get<int>());
+  LONGS_EQUAL(0, json["bus_down"].get<int>());
+  const auto index = stickslip::test::split_lines(stickslip::test::read_text(request.sample_index_path));
+  LONGS_EQUAL(52, index.size());
+  STRCMP_EQUAL("n,sample,held", index[0].c_str());
+  STRCMP_EQUAL("0,0,0", index[1].c_str());
+  STRCMP_EQUAL("50,50,0", index[51].c_str());
 }
 
 TEST(EcuCommand, NodeAloneWritesWhatReplayWritesForTheSameFrames) {
@@ -238,4 +248,47 @@ TEST(EcuCommand, StopFlagEndsTheRun) {
   stop = 1;
   ecu.join();  // returns within one poll period
   CHECK_EQUAL(1, stop);
+}
+
+TEST_GROUP(PlayCommand) {
+  stickslip::test::TempDir dir;
+};
+
+TEST(PlayCommand, SendsEveryFrameOfTheRecordingAtTheGivenSpeed) {
+  const std::string input = dir.file("short.csv");
+  LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "harmonic", "--rms", "1", "--duration", "0.2",
+                                "--dt", "0.001", "--frequency", "5", "--output", input}).status);
+  auto listener = port::make_loopback_transport();
+  CHECK(listener->open("loopback") == port::TransportStatus::ok);
+  host::PlayRequest request;
+  request.input_path = input;
+  request.bus = "loopback";
+  request.speed = 4.0;  // 201 frames, 0.05 s
+  const auto start = std::chrono::steady_clock::now();
+  const host::PlayResult result = host::play_file(request);
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CHECK(elapsed >= 0.049);
+  LONGS_EQUAL(201, result.frames);
+  LONGS_EQUAL(201, result.attempted);
+  LONGS_EQUAL(201, result.sent);
+  LONGS_EQUAL(0, result.not_sent);
+  // On the bus: the recording's frames, in order.
+  const host::BusRecording recording = host::frames_from_csv(input);
+  for (std::size_t n = 0; n < recording.frames.size(); ++n) {
+    can::Frame frame;
+    CHECK(listener->receive(frame, 100) == port::TransportStatus::ok);
+    LONGS_EQUAL(n, can::decode_payload(frame.data).sample_counter);
+    CHECK(std::equal(frame.data, frame.data + 8, recording.frames[n].data));
+  }
+  const auto json = nlohmann::json::parse(result.json);
+  LONGS_EQUAL(201, json["sent"].get<int>());
+  CHECK(json["first_not_sent"].is_null());
+}
+
+TEST(PlayCommand, RefusesASpeedThatIsNotAPositiveFactor) {
+  const std::string input = dir.file("in.csv");
+  stickslip::test::write_text(input, "t,a_u\n0,0.5\n0.001,0.25\n");
+  const CliRun r = run_stickslip({"play", "--input", input, "--bus", "loopback", "--speed", "0"});
+  LONGS_EQUAL(2, r.status);
+  CHECK(r.err.rfind("stickslip: --speed: must be a positive factor", 0) == 0);
 }

@@ -80,7 +80,7 @@ TEST(Cli, UsageErrorsAreOneLineWithStatusTwo) {
   LONGS_EQUAL(2, unknown.status);
   STRCMP_EQUAL(
       "stickslip: unknown subcommand 'simulat' (expected generate, simulate, demo, replay, ecu, "
-      "record, sweep, merge, psd, harmonic-balance or advise; see stickslip --help)\n",
+      "record, play, sweep, merge, psd, harmonic-balance or advise; see stickslip --help)\n",
       unknown.err.c_str());
   const CliRun flag = run_stickslip({"--verbose"});
   LONGS_EQUAL(2, flag.status);

@@ -12,7 +12,9 @@
 //   1 <= d <= max_gap + 1     accepted; d - 1 samples were lost: the node holds the last good
 //                             sample for each of them (time never slips), flags them as held
 //   max_gap + 1 < d < 2^15    accepted as a resync (counted): the stream continues with this
-//                             sample, the lost time is not filled in
+//                             sample, the lost time is not filled in; the d - 1 frames missing
+//                             are counted as skipped (so lost + skipped + accepted +
+//                             invalid_signal spans every counter from the first to the last)
 //   kRestartRun frames in a row that are behind, with consecutive counters: the sender has
 //                             restarted; the last of them is accepted as a resync
 // The alive counter must have advanced by d mod 16 too, else alive_mismatch (refused). A frame
@@ -76,6 +78,7 @@ struct FaultCounters {
   std::uint64_t alive_mismatch = 0;
   std::uint64_t invalid_signal = 0;
   std::uint64_t resync = 0;          // gaps beyond max_gap (or an implausible jump)
+  std::uint64_t skipped = 0;         // frames missing across forward resyncs (not filled in)
   std::uint64_t silence = 0;         // periods without an accepted frame beyond the timeout
   std::uint64_t held_samples = 0;    // samples the node filled in (lost + invalid_signal)
   std::uint64_t sender_saturated = 0;  // accepted frames whose sender clipped a_u
@@ -83,13 +86,15 @@ struct FaultCounters {
   // Frames refused or missing: everything but accepted and ignored_output.
   std::uint64_t faults() const noexcept {
     return lost + duplicate + out_of_order + bad_crc + wrong_length + unknown_id + can_fd +
-           error_frame + remote_frame + alive_mismatch + invalid_signal + resync + silence;
+           error_frame + remote_frame + alive_mismatch + invalid_signal + resync + skipped +
+           silence;
   }
 };
 
 struct CheckResult {
   FrameVerdict verdict = FrameVerdict::unknown_id;
   std::uint16_t lost_samples = 0;  // accepted: samples lost just before this one (to be held)
+  std::uint16_t skipped_samples = 0;  // accepted after a forward resync: samples not filled in
   bool resync = false;             // accepted after a gap beyond max_gap
   bool hold = false;               // invalid_signal: the node holds the last sample for this one
   Payload payload;                 // accepted / invalid_signal: the decoded SeatInput fields
@@ -197,6 +202,7 @@ class ReceiveChecker {
         // restarted stream: nothing to hold
       } else if (d > static_cast<unsigned>(config_.max_gap) + 1u) {
         result.resync = true;
+        result.skipped_samples = static_cast<std::uint16_t>(d - 1u);
       } else {
         result.lost_samples = static_cast<std::uint16_t>(d - 1u);
       }
@@ -238,6 +244,7 @@ class ReceiveChecker {
     if (result.verdict == FrameVerdict::accepted || result.verdict == FrameVerdict::invalid_signal) {
       c.lost += result.lost_samples;
       c.held_samples += result.lost_samples;
+      c.skipped += result.skipped_samples;
       if (result.resync) ++c.resync;
     }
   }

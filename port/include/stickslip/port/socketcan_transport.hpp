@@ -17,8 +17,13 @@
 //            io_error (anything else)
 //   send:    closed (not open), invalid_argument (error frame, bad id, bad length, FD frame on
 //            a classic-only interface), buffer_full (EAGAIN/ENOBUFS: the queue is full),
+//            interface_down (ENETDOWN), no_such_interface (ENODEV/ENXIO: the interface is gone),
 //            io_error
-//   receive: closed, timeout, io_error (malformed read, interface gone, other errors)
+//   receive: closed, timeout, interface_down (ENETDOWN: the kernel reports the interface going
+//            down once, as a socket error; the socket stays bound, frames queued before are
+//            still read, and frames arrive again once it is up), no_such_interface (ENODEV: the
+//            interface was deleted and the socket unbound; open() again), io_error (malformed
+//            read, other errors)
 #pragma once
 
 #include <memory>

@@ -21,6 +21,8 @@ enum class TransportStatus : std::uint8_t {
   invalid_argument,   // a frame the bus cannot carry (length > 8 on a classic bus, bad id ...)
   buffer_full,        // send: the bus/socket would block and the frame was not sent
   io_error,           // any other failure of the platform call
+  interface_down,     // send/receive: the interface went down (SocketCAN ENETDOWN); the endpoint
+                      // stays bound and carries frames again once the interface is up
 };
 const char* transport_status_name(TransportStatus status) noexcept;
 

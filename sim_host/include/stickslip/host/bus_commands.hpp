@@ -71,8 +71,12 @@ struct EcuRequest {
   // SeatMotion/SeatForce/SeatStats/SeatScene outputs, which are ignored); 0: never.
   std::uint64_t max_frames = 0;
   std::string output_path;       // empty: no CSV
+  std::string sample_index_path;  // empty: none; else n,sample,held for every row (NodeTrace)
   can::CheckerConfig checker;
   int poll_ms = 20;              // receive timeout between checks of `stop`
+  // SocketCAN SO_RCVBUF in bytes (0: the kernel's default; the kernel doubles it, up to twice
+  // net.core.rmem_max): room for a node that falls behind a fast stream (receive_drops).
+  int receive_buffer_bytes = 0;
   const volatile std::sig_atomic_t* stop = nullptr;  // set by a signal handler to end the run
 };
 
@@ -82,10 +86,47 @@ struct EcuResult {
   port::TransportCounters transport;
   std::uint64_t frames_received = 0;
   std::uint64_t output_frames = 0;
+  std::uint64_t output_send_failures = 0;  // output frames the bus refused (e.g. while down)
+  std::uint64_t bus_down = 0;  // times the interface went down (or away) under the node
+  std::uint64_t left_after_stop = 0;  // 1: the frame that ended the drain after a stop (unused)
   std::string json;  // one line
 };
 
+// The node on a bus until stopped. The interface going down (ENETDOWN) does not end the run:
+// it is counted (bus_down), the node keeps its state and its sequence check, and the samples
+// missed meanwhile are the gap the first frame after it reports (lost or skipped). A deleted
+// interface is opened again once it is back. Other receive failures throw HostError. When
+// `stop` is set, the frames the kernel received for the node before it are still taken (up to
+// 10^6; the first later one ends the run unused, left_after_stop), then the run ends.
 EcuResult run_ecu(const EcuRequest& request);
+
+// Writes n,sample,held for every row of the trace (the node's row, the sender's sample number,
+// 1 for a held row).
+void write_sample_index(const std::string& path, const NodeTrace& trace);
+
+struct PlayRequest {
+  std::string input_path;  // CSV (t,a_u) or candump log, as replay reads it
+  std::string bus;
+  double speed = 1.0;      // frame i goes out at i * dt / speed after the start
+  double log_dt_s = 1e-3;  // sample interval of a candump-log input
+  const volatile std::sig_atomic_t* stop = nullptr;
+};
+
+struct PlayResult {
+  std::uint64_t frames = 0;     // in the recording
+  std::uint64_t attempted = 0;  // frames whose time came (all, unless stopped)
+  std::uint64_t sent = 0;       // accepted by the bus
+  std::uint64_t not_sent = 0;   // refused: interface_down + buffer_full + other_failures
+  std::uint64_t interface_down = 0, buffer_full = 0, other_failures = 0;
+  std::uint64_t first_not_sent = 0, last_not_sent = 0;  // frame indices (when not_sent > 0)
+  double duration_s = 0.0;
+  double max_late_s = 0.0;      // the most a frame went out after its time
+  std::string json;             // one line
+};
+
+// Sends the recording's frames on the bus at `speed` times real time, without a node (the
+// sender side of the load test; canplayer stops at the first refused frame, this goes on).
+PlayResult play_file(const PlayRequest& request);
 
 struct RecordRequest {
   std::string input_path;

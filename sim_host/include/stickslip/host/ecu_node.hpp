@@ -25,6 +25,10 @@ struct EcuNodeConfig {
 // One output sample of the node, as simulate writes it (double holds a float run exactly).
 struct NodeTrace {
   std::vector<std::uint64_t> index;  // sample index since the first accepted frame
+  // The sender's sample number of the row: the first accepted frame's 16-bit counter, then
+  // advanced by every counter step (so it counts on past 2^16; a restarted sender steps back).
+  // A held row has the number of the sample it stands in for.
+  std::vector<std::int64_t> sample;
   std::vector<double> a_u, x_r, v_r, a_x, f_f;
   std::vector<std::uint8_t> stuck;
   std::vector<std::uint8_t> held;  // 1: filled in by the gap policy, not received
@@ -54,13 +58,18 @@ class EcuNode {
   // Frames with the SeatInput identifier checked so far (whatever their verdict).
   std::uint64_t input_frames() const noexcept { return input_frames_; }
   std::uint64_t samples() const noexcept { return samples_; }
+  // The sender's sample numbers (see NodeTrace::sample) of the first and the last row; valid
+  // when samples() > 0. A restarted node starts again at the counter of its first frame: the
+  // samples before it that it never saw are the gap across the restart.
+  std::int64_t first_sample() const noexcept { return first_sample_; }
+  std::int64_t last_sample() const noexcept { return last_sample_; }
   const NodeTrace& trace() const noexcept { return trace_; }
   // The statistics of the run so far, as simulate_signal() reports them (ns_per_sample: wall
   // time of on_frame per sample, not comparable with simulate's tight loop).
   SimulationSummary summary() const;
 
  private:
-  void emit(double a_u, bool held, bool resync, std::vector<can::Frame>& outputs);
+  void emit(double a_u, bool held, bool resync, std::int64_t sample, std::vector<can::Frame>& outputs);
 
   EcuNodeConfig config_;
   can::ReceiveChecker checker_;
@@ -69,6 +78,9 @@ class EcuNode {
   std::uint64_t samples_ = 0;
   std::uint64_t input_frames_ = 0;
   double last_a_u_ = 0.0;
+  std::int64_t first_sample_ = 0;
+  std::int64_t last_sample_ = 0;
+  std::uint16_t last_counter_ = 0;  // of the last frame that brought a sample (or a hold)
   double busy_s_ = 0.0;
   std::uint8_t alive_[4] = {0, 0, 0, 0};
 };

@@ -56,7 +56,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   std::uint64_t now_ns = 0;
   std::uint64_t frames = 0;
-  std::uint64_t lost = 0, held = 0, resyncs = 0;  // recounted from the verdicts
+  std::uint64_t lost = 0, held = 0, skipped = 0, resyncs = 0;  // recounted from the verdicts
   std::uint16_t counter = 0;
   bool have_last = false;
   std::uint16_t last_accepted_counter = 0;
@@ -98,9 +98,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (result.verdict == FrameVerdict::accepted || result.verdict == FrameVerdict::invalid_signal) {
       lost += result.lost_samples;
       held += result.lost_samples + (result.hold ? 1u : 0u);
+      skipped += result.skipped_samples;
       resyncs += result.resync ? 1u : 0u;
     }
-    check(c.lost == lost && c.held_samples == held && c.resync == resyncs);
+    check(c.lost == lost && c.held_samples == held && c.resync == resyncs && c.skipped == skipped);
 
     if (result.verdict == FrameVerdict::accepted) {
       // Only a whole, intact SeatInput frame with a sample in it is ever used.
@@ -110,11 +111,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const Payload decoded = decode_payload(frame.data);
       check(decoded.sample_counter == result.payload.sample_counter &&
             decoded.words[0] == result.payload.words[0]);
-      if (have_last && !result.resync) {
+      if (have_last) {
         const auto d = static_cast<std::uint16_t>(result.payload.sample_counter -
                                                   last_accepted_counter);
-        check(d >= 1 && d <= config.max_gap + 1u);
-        check(result.lost_samples == d - 1u);
+        if (!result.resync) {
+          check(d >= 1 && d <= config.max_gap + 1u);
+          check(result.lost_samples == d - 1u && result.skipped_samples == 0);
+        } else if (d < 0x8000u) {  // a forward resync: the frames between are skipped
+          check(d > config.max_gap + 1u && result.skipped_samples == d - 1u);
+          check(result.lost_samples == 0);
+        } else {  // a restarted stream: nothing lost, nothing skipped
+          check(result.lost_samples == 0 && result.skipped_samples == 0);
+        }
       }
       check(result.lost_samples <= config.max_gap);
       have_last = true;
@@ -123,7 +131,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       have_last = true;  // the counter moved on without a sample
       last_accepted_counter = result.payload.sample_counter;
     } else {
-      check(result.lost_samples == 0 && !result.resync);
+      check(result.lost_samples == 0 && result.skipped_samples == 0 && !result.resync);
     }
   }
   return 0;

@@ -1,11 +1,8 @@
 // The candump log reader on arbitrary bytes: it either returns frames that keep the format's
 // promises (ids within their width, classic frames of at most 8 bytes, FD frames of a length a
-// DLC can express, interface names of 1..15 characters without white space) or throws HostError
+// DLC can express, interface names of 1..15 printable ASCII characters other than space) or throws HostError
 // naming the line; nothing else. What it accepts, the writer writes back and the reader reads
 // back to the same frames (the log round trip replay and record rely on).
-#include <sys/mman.h>
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -16,23 +13,16 @@
 #include "stickslip/host/candump_log.hpp"
 #include "stickslip/host/error.hpp"
 
+#include "fuzz_support.hpp"
+
 namespace {
+
+using stickslip::fuzz::check;
 
 using stickslip::host::LoggedFrame;
 namespace can = stickslip::can;
 
-void check(bool condition) {
-  if (!condition) __builtin_trap();
-}
 
-// The reader opens a path: the input goes into a memory file reached as /proc/self/fd/N.
-const std::string& input_path(int& fd) {
-  static int file = memfd_create("stickslip_fuzz_candump", 0);
-  static const std::string path = "/proc/self/fd/" + std::to_string(file);
-  if (file < 0) std::abort();
-  fd = file;
-  return path;
-}
 
 // The writer renames a temporary file into place: it needs a real directory.
 const std::string& round_trip_path() {
@@ -62,15 +52,7 @@ bool same_frame(const LoggedFrame& a, const LoggedFrame& b) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  int fd = -1;
-  const std::string& path = input_path(fd);
-  check(ftruncate(fd, 0) == 0);
-  std::size_t written = 0;
-  while (written < size) {
-    const ssize_t n = pwrite(fd, data + written, size - written, static_cast<off_t>(written));
-    check(n > 0);
-    written += static_cast<std::size_t>(n);
-  }
+  const std::string& path = stickslip::fuzz::input_as_file(data, size);
   std::vector<LoggedFrame> frames;
   try {
     frames = stickslip::host::read_candump_log(path);
@@ -80,7 +62,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const LoggedFrame& logged : frames) {
     const can::Frame& frame = logged.frame;
     check(!logged.interface.empty() && logged.interface.size() <= 15);
-    check(logged.interface.find_first_of(" \t\r\n") == std::string::npos);
+    for (const char c : logged.interface) check(c > ' ' && c < 0x7F);
     check(frame.timestamp_ns == logged.time_us * 1000u);
     if (frame.flags & can::kErrorFrame) {
       check((frame.flags & (can::kRemote | can::kFd)) == 0);

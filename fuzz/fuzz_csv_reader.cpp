@@ -1,9 +1,6 @@
 // The CSV reader on arbitrary bytes: it either returns a signal that keeps its promises (>= 2
 // samples, finite values, t increasing, dt > 0 and finite) or throws HostError; nothing else
 // (no crash, no sanitizer report, no other exception).
-#include <sys/mman.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -13,33 +10,18 @@
 #include "stickslip/host/csv_reader.hpp"
 #include "stickslip/host/error.hpp"
 
+#include "fuzz_support.hpp"
+
 namespace {
 
-// The reader opens a path: the input goes into a memory file reached as /proc/self/fd/N.
-const std::string& memory_file_path(int& fd) {
-  static int file = memfd_create("stickslip_fuzz_csv", 0);
-  static const std::string path = "/proc/self/fd/" + std::to_string(file);
-  if (file < 0) std::abort();
-  fd = file;
-  return path;
-}
+using stickslip::fuzz::check;
 
-void check(bool condition) {
-  if (!condition) __builtin_trap();
-}
+
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  int fd = -1;
-  const std::string& path = memory_file_path(fd);
-  check(ftruncate(fd, 0) == 0);
-  std::size_t written = 0;
-  while (written < size) {
-    const ssize_t n = pwrite(fd, data + written, size - written, static_cast<off_t>(written));
-    check(n > 0);
-    written += static_cast<std::size_t>(n);
-  }
+  const std::string& path = stickslip::fuzz::input_as_file(data, size);
   try {
     const stickslip::host::SampledSignal signal = stickslip::host::read_signal_csv(path);
     const std::size_t n = signal.t_s.size();

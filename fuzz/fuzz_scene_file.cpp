@@ -3,9 +3,6 @@
 // model of exactly its effects is configured from it and, when configure() accepts, runs a few
 // hundred steps of a bounded input without NaN/Inf and without the non-finite guard restarting
 // the state.
-#include <sys/mman.h>
-#include <unistd.h>
-
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -16,19 +13,13 @@
 #include "stickslip/host/scene_file.hpp"
 #include "stickslip/models/scene.hpp"
 
+#include "fuzz_support.hpp"
+
 namespace {
 
-void check(bool condition) {
-  if (!condition) __builtin_trap();
-}
+using stickslip::fuzz::check;
 
-const std::string& memory_file_path(int& fd) {
-  static int file = memfd_create("stickslip_fuzz_scene", 0);
-  static const std::string path = "/proc/self/fd/" + std::to_string(file);
-  if (file < 0) std::abort();
-  fd = file;
-  return path;
-}
+
 
 template <typename T>
 bool finite_output(const stickslip::StepOutput<T>& out) {
@@ -39,15 +30,7 @@ bool finite_output(const stickslip::StepOutput<T>& out) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  int fd = -1;
-  const std::string& path = memory_file_path(fd);
-  check(ftruncate(fd, 0) == 0);
-  std::size_t written = 0;
-  while (written < size) {
-    const ssize_t n = pwrite(fd, data + written, size - written, static_cast<off_t>(written));
-    check(n > 0);
-    written += static_cast<std::size_t>(n);
-  }
+  const std::string& path = stickslip::fuzz::input_as_file(data, size);
   stickslip::host::Scene scene;
   try {
     scene = stickslip::host::read_scene_file(path);

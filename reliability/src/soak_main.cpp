@@ -218,6 +218,26 @@ class Report {
   std::string first_;
 };
 
+// The whole-stream checkpoint both paths take: the running statistics against the long-double
+// recomputation after n + 1 samples, each beyond `tolerance` reported.
+template <typename Statistics>
+Checkpoint whole_stream_checkpoint(std::uint64_t n, const Statistics& stats,
+                                   const WholeStreamReference& whole, double seconds,
+                                   double tolerance, Report& report) {
+  Checkpoint c{};
+  c.samples = n + 1;
+  c.t_ax = stats.transmissibility();
+  c.t_ax_block = whole.rms_ratio();
+  c.p = stats.stick_probability();
+  c.p_block = whole.stuck_share(n);
+  c.d_t = relative(c.t_ax, c.t_ax_block);
+  c.d_p = relative(c.p, c.p_block);
+  c.ns = seconds * 1e9 / static_cast<double>(n);
+  if (!(c.d_t <= tolerance)) report.fail("whole-stream T_ax vs blockwise", n + 1, c.d_t, tolerance);
+  if (!(c.d_p <= tolerance)) report.fail("whole-stream p vs blockwise", n + 1, c.d_p, tolerance);
+  return c;
+}
+
 // --path oscillator: the oscillator and RunningStatistics only.
 template <typename T>
 int soak_oscillator(const Options& o) {
@@ -265,18 +285,7 @@ int soak_oscillator(const Options& o) {
     if (n + 1 == next_checkpoint || n + 1 == o.samples) {
       next_checkpoint += every;
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      Checkpoint c{};
-      c.samples = n + 1;
-      c.t_ax = stats.transmissibility();
-      c.t_ax_block = whole.rms_ratio();
-      c.p = stats.stick_probability();
-      c.p_block = whole.stuck_share(n);
-      c.d_t = relative(c.t_ax, c.t_ax_block);
-      c.d_p = relative(c.p, c.p_block);
-      c.ns = seconds * 1e9 / static_cast<double>(n);
-      report.row(c, false);
-      if (!(c.d_t <= tolerance)) report.fail("whole-stream T_ax vs blockwise", n + 1, c.d_t, tolerance);
-      if (!(c.d_p <= tolerance)) report.fail("whole-stream p vs blockwise", n + 1, c.d_p, tolerance);
+      report.row(whole_stream_checkpoint(n, stats, whole, seconds, tolerance, report), false);
     }
   }
   const bool counts = stats.samples() == o.samples && stats.steps() == o.samples - 1;
@@ -515,22 +524,12 @@ int soak_observer(const Options& o) {
     if (n + 1 == next_checkpoint || n + 1 == o.samples) {
       next_checkpoint += every;
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      Checkpoint c{};
-      c.samples = n + 1;
-      c.t_ax = stats.transmissibility();
-      c.t_ax_block = whole.rms_ratio();
-      c.p = stats.stick_probability();
-      c.p_block = whole.stuck_share(n);
-      c.d_t = relative(c.t_ax, c.t_ax_block);
-      c.d_p = relative(c.p, c.p_block);
+      Checkpoint c = whole_stream_checkpoint(n, stats, whole, seconds, whole_tolerance, report);
       c.window_worst = window_worst;
       c.exp_worst = exp_worst;
       c.comfort_worst = comfort_worst;
-      c.ns = seconds * 1e9 / static_cast<double>(n);
       report.row(c, true);
       whole_worst = std::fmax(whole_worst, std::fmax(c.d_t, c.d_p) / whole_tolerance);
-      if (!(c.d_t <= whole_tolerance)) report.fail("whole-stream T_ax vs blockwise", n + 1, c.d_t, whole_tolerance);
-      if (!(c.d_p <= whole_tolerance)) report.fail("whole-stream p vs blockwise", n + 1, c.d_p, whole_tolerance);
     }
   }
 

@@ -269,7 +269,8 @@ void add_simulate(CLI::App& app, Options& o) {
                        "linear, signum, stick-slip; rk4 for smooth, stribeck; reference: the "
                        "event-driven reference solver, double only)");
   simulate->add_option("--scalar", o.scalar,
-                       "double | float | fixed (Q23.40 fixed point: linear, signum, smooth rational, "
+                       "double | float | fixed | fixed32 (fixed: Q23.40; fixed32: Q7.24 in scene "
+                       "units, as on the Cortex-M0+; both: linear, signum, smooth rational, "
                        "stick-slip; euler, symplectic, exact)")->capture_default_str();
   simulate
       ->add_option("--input-range", p.input_range_m_per_s2,
@@ -505,7 +506,8 @@ int run_simulate(CLI::App& simulate, Options& o, std::ostream& out) {
                      "' (expected euler, symplectic, rk4, exact or reference)");
   }
   if (!parse_scalar(o.scalar, request.scalar)) {
-    throw UsageError("--scalar: unknown scalar '" + o.scalar + "' (expected double, float or fixed)");
+    throw UsageError("--scalar: unknown scalar '" + o.scalar +
+                     "' (expected double, float, fixed or fixed32)");
   }
   if (!scene && !given("--ffs")) p.static_friction_n = p.kinetic_friction_n;
   const SimulateResult result = simulate_file(request);

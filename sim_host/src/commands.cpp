@@ -135,8 +135,10 @@ std::string make_fresh_directory() {
 SimulateResult simulate_file(const SimulateRequest& request) {
   require_finite("--x0", request.setup.x0_m);
   require_finite("--v0", request.setup.v0_m_per_s);
-  if (request.setup.reference && request.scalar == ScalarType::fixed) {
-    throw UsageError("--scalar fixed: the reference integrator runs in double only; use --scalar double");
+  if (request.setup.reference &&
+      (request.scalar == ScalarType::fixed || request.scalar == ScalarType::fixed32)) {
+    throw UsageError(std::string("--scalar ") + scalar_name(request.scalar) +
+                     ": the reference integrator runs in double only; use --scalar double");
   }
   if (request.setup.reference && request.scalar == ScalarType::float32) {
     throw UsageError(
@@ -151,7 +153,8 @@ SimulateResult simulate_file(const SimulateRequest& request) {
     }
   }
   if ((request.setup.effects & kEndStops) &&
-      (request.setup.reference || request.scalar == ScalarType::fixed)) {
+      (request.setup.reference || request.scalar == ScalarType::fixed ||
+       request.scalar == ScalarType::fixed32)) {
     throw UsageError("--scene: end stops run in double or float with the core's exact integrator "
                      "(not --integrator reference, not --scalar fixed)");
   }
@@ -171,10 +174,12 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   CsvWriter writer(output);
 
   SimulateResult result;
-  if (request.scalar == ScalarType::fixed) {
+  if (request.scalar == ScalarType::fixed || request.scalar == ScalarType::fixed32) {
     SimulationTrace<double> trace;
     try {
-      result.summary = simulate_signal_fixed(setup, signal.a_u_m_per_s2, trace);
+      result.summary = request.scalar == ScalarType::fixed
+                           ? simulate_signal_fixed(setup, signal.a_u_m_per_s2, trace)
+                           : simulate_signal_fixed32(setup, signal.a_u_m_per_s2, trace);
       add_ride_comfort(result.summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
     } catch (const ConfigurationError& error) {
       throw HostError(explain_configuration_error(error.what(), request.input_path, setup.params.dt_s));

@@ -105,7 +105,7 @@ TEST(SimulateErrors, UnknownFlagModelIntegratorScalarOrSmoothing) {
       {"--input", in, "--model", "signum", "--integrator", "rk45"},
       "--integrator: unknown integrator 'rk45' (expected euler, symplectic, rk4, exact or reference)", 2);
   expect_refused({"--input", in, "--model", "signum", "--scalar", "half"},
-                 "--scalar: unknown scalar 'half' (expected double, float or fixed)", 2);
+                 "--scalar: unknown scalar 'half' (expected double, float, fixed or fixed32)", 2);
   expect_refused({"--input", in, "--model", "smooth", "--smoothing", "sigmoid"},
                  "--smoothing: unknown form 'sigmoid' (expected atan, tanh, erf or rational)", 2);
   expect_refused({"--input", in}, "--model is required (or give a --scene)", 2);

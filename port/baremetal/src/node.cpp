@@ -3,39 +3,51 @@
 #include <cstring>
 
 #include "board.hpp"
-#include "stickslip/core/fixed_point.hpp"
+#include "stickslip/core/fixed_point32.hpp"
 #include "stickslip/models/oscillator.hpp"
+#include "stickslip/models/scaled_oscillator.hpp"
 
 namespace {
 
 #if defined(STICKSLIP_FIRMWARE_FIXED)
-using Scalar = stickslip::Fixed;  // Cortex-M0+: no FPU
+// Cortex-M0+ (no FPU, 32-bit multiply only): Q7.24 in scene units (models/scaled_oscillator.hpp).
+using Scalar = stickslip::Fixed32;
+using Seat = stickslip::ScaledOscillator<Scalar, stickslip::CoulombStickSlip>;
+stickslip::CountScale<Scalar> input_scale;   // mm/s^2 -> scene units
+stickslip::CountScale<Scalar> output_scale;  // scene units -> mm/s^2
+const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const Seat& s) {
+  return s.oscillator();
+}
 #else
 using Scalar = float;  // Cortex-M4F: single-precision FPU
-#endif
 using Seat = stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>;
+const Seat& model_of(const Seat& s) { return s; }
+#endif
 
 Seat seat;  // the model's coefficients and state, statically allocated (no heap)
 stickslip::StepOutput<Scalar> last_output{};
 
-constexpr Scalar kPerMilli = Scalar(0.001);  // mm/s^2 -> m/s^2
-constexpr Scalar kThousand = Scalar(1000);
+constexpr std::int32_t kMilliLimit = 32767;  // int16 mm/s^2
 
-// v * 1000 rounded to the nearest integer and clamped to int16.
-std::int16_t to_milli(Scalar v) {
-  const Scalar scaled = v * kThousand;
-  std::int32_t rounded = 0;
+// The CAN payload's a_u (mm/s^2) as the model's input.
+Scalar input_of(std::int16_t milli) {
 #if defined(STICKSLIP_FIRMWARE_FIXED)
-  const std::int64_t raw = scaled.raw();
-  const std::int64_t half = std::int64_t{1} << (Scalar::kFractionBits - 1);
-  const std::int64_t magnitude = ((raw < 0 ? -raw : raw) + half) >> Scalar::kFractionBits;
-  const std::int64_t clamped = magnitude > 32767 ? 32767 : magnitude;
-  rounded = static_cast<std::int32_t>(raw < 0 ? -clamped : clamped);
+  return input_scale.to_scalar(milli);
 #else
-  const float clamped = scaled > 32767.0f ? 32767.0f : (scaled < -32767.0f ? -32767.0f : scaled);
-  rounded = static_cast<std::int32_t>(clamped + (clamped < 0.0f ? -0.5f : 0.5f));
+  return static_cast<float>(milli) * 0.001f;
 #endif
-  return static_cast<std::int16_t>(rounded);
+}
+
+// The model's a_x in mm/s^2, rounded to nearest and clamped to int16.
+std::int16_t to_milli(Scalar v) {
+#if defined(STICKSLIP_FIRMWARE_FIXED)
+  return static_cast<std::int16_t>(output_scale.to_count(v, kMilliLimit));
+#else
+  const float scaled = v * 1000.0f;
+  const float limit = static_cast<float>(kMilliLimit);
+  const float clamped = scaled > limit ? limit : (scaled < -limit ? -limit : scaled);
+  return static_cast<std::int16_t>(clamped + (clamped < 0.0f ? -0.5f : 0.5f));
+#endif
 }
 
 }  // namespace
@@ -46,7 +58,17 @@ extern "C" int stickslip_node_start() {
   params.kinetic_friction_n = params.static_friction_n = 45.0;
   params.dt_s = 1e-3;
   params.integrator = stickslip::Integrator::exact;
+  // The ranges the fixed-point scaling must hold: the int16 mm/s^2 input, the seat's stroke.
+  params.input_range_m_per_s2 = 32.768;
+  params.displacement_range_m = 0.1;
   const stickslip::ConfigResult result = seat.configure(params);
+#if defined(STICKSLIP_FIRMWARE_FIXED)
+  if (result.ok()) {
+    const double unit = seat.units().acceleration_m_per_s2();
+    if (!input_scale.set_count_to_scalar(1e-3 / unit) || !output_scale.set_scalar_to_count(unit / 1e-3))
+      return static_cast<int>(stickslip::Status::out_of_range);
+  }
+#endif
   return static_cast<int>(result.status);
 }
 
@@ -55,9 +77,9 @@ extern "C" void stickslip_node_on_frame(const stickslip::can::Frame* frame) {
     return;
   const auto raw = static_cast<std::int16_t>(static_cast<std::uint16_t>(
       frame->data[0] | static_cast<unsigned>(frame->data[1]) << 8));
-  const Scalar a_u = Scalar(static_cast<int>(raw)) * kPerMilli;
-  const stickslip::StepOutput<Scalar> out = seat.step(a_u);
-  last_output = out;
+  const Scalar a_u = input_of(raw);
+  last_output = seat.step(a_u);
+  const stickslip::StepOutput<Scalar>& out = last_output;
 
   static stickslip::can::Frame reply;  // statically allocated: not on the interrupt's stack
   reply.id = kNodeOutputId;
@@ -67,7 +89,7 @@ extern "C" void stickslip_node_on_frame(const stickslip::can::Frame* frame) {
   reply.data[1] = static_cast<std::uint8_t>(a_x >> 8);
   reply.data[2] = out.stuck ? 1u : 0u;
   reply.data[3] = out.events;
-  reply.data[4] = seat.saturated_steps() != 0 ? 1u : 0u;
+  reply.data[4] = model_of(seat).saturated_steps() != 0 ? 1u : 0u;
   board_can_send(&reply);
 }
 
@@ -75,7 +97,7 @@ namespace {
 
 std::uint64_t bits_of(Scalar v) {
 #if defined(STICKSLIP_FIRMWARE_FIXED)
-  return static_cast<std::uint64_t>(v.raw());
+  return static_cast<std::uint64_t>(static_cast<std::int64_t>(v.raw()));
 #else
   std::uint32_t bits = 0;
   std::memcpy(&bits, &v, sizeof bits);
@@ -95,7 +117,7 @@ extern "C" void stickslip_node_record(std::uint8_t* out) {
   }
   *out++ = last_output.stuck ? 1u : 0u;
   *out++ = last_output.events;
-  *out = seat.saturated_steps() != 0 ? 1u : 0u;
+  *out = model_of(seat).saturated_steps() != 0 ? 1u : 0u;
 }
 
 // The CAN controller's receive interrupt (IRQ 0 in startup.cpp's vector table).

@@ -24,7 +24,9 @@
 //   126-bit product a * r shifted into Q23.40, rounded to nearest (ties away from zero). Relative
 //   error of the quotient <= 2^-29 (b's truncation to 32 bits 2^-31, the reciprocal 2^-30; tested),
 //   plus the final rounding to 1 ulp. b == 0 saturates to +-max (0/0 gives 0) and sets the flag.
-//   Used only on the rare event path (in-step event instants) and by the rational friction law.
+//   Used only by the rational friction law; the event instants of the step use proportion().
+// - proportion(n, d) for 0 <= n <= d: n/d in [0, 1] by 40 rounds of shift-and-subtract, rounded
+//   to nearest (ties up): no division in the stick-slip step.
 // - Conversions: from double rounds to nearest (ties away from zero); from int/unsigned is exact;
 //   both saturate and flag out of range (in a constant expression an out-of-range literal does not
 //   compile). to_double is exact to double's 53 bits. Conversion to unsigned truncates toward
@@ -232,6 +234,27 @@ STICKSLIP_FIXED_KERNEL constexpr std::int64_t divide_raw(std::int64_t a, std::in
   return negative ? -q : q;
 }
 
+// round(n / d 2^F) for 0 <= n, 0 < d < 2^(bits - 1) (unsigned magnitudes), clamped to [0, 2^F]:
+// F rounds of restoring shift-and-subtract, ties rounded up; n >= d gives exactly 2^F. The event
+// instants of the step (a fraction of a tick or of the step), where a division would need a
+// divide routine on a core without one.
+template <int F, typename U>
+STICKSLIP_FIXED_KERNEL constexpr U proportion_raw(U n, U d) noexcept {
+  if (n >= d) return U{1} << F;
+  U q = 0;
+  U r = n;  // r < d throughout, so 2 r does not overflow
+  for (int bit = 0; bit < F; ++bit) {
+    r <<= 1;
+    q <<= 1;
+    if (r >= d) {
+      r -= d;
+      q |= 1u;
+    }
+  }
+  if ((r << 1) >= d) ++q;  // round to nearest
+  return q;
+}
+
 }  // namespace fixed_point_detail
 
 // Reads and clears the sticky saturation flag of this thread (this core on bare metal).
@@ -361,6 +384,8 @@ struct ScalarTraits<FixedPoint<F>> {
   // level is a full step map of 64-bit products).
   static constexpr int kEventTickLevel = 10;
   static constexpr bool kTracksSaturation = true;
+  // Q23.40 runs on cores with room (and the host): the common path stays inline.
+  static constexpr bool kCompactStack = false;
   // Reads and clears the sticky saturation flag (the oscillator, after each step).
   static bool take_saturation() noexcept { return take_fixed_point_saturation(); }
   static T from_double(double value) noexcept { return T(value); }
@@ -368,6 +393,13 @@ struct ScalarTraits<FixedPoint<F>> {
   static constexpr bool is_finite(T /*value*/) noexcept { return true; }
   static constexpr T abs(T value) noexcept { return value < T() ? -value : value; }
   static constexpr T epsilon() noexcept { return T::from_raw(1); }
+  // n/d clamped to [0, 1] (0 when n and d differ in sign or d == 0): the in-step event instants,
+  // by F rounds of shift-and-subtract (fixed_point_detail::proportion_raw), not a division.
+  static constexpr T proportion(T n, T d) noexcept {
+    if (d == T() || (n < T()) != (d < T()) || n == T()) return T();
+    return T::from_raw(static_cast<std::int64_t>(fixed_point_detail::proportion_raw<F>(
+        fixed_point_detail::magnitude(n.raw()), fixed_point_detail::magnitude(d.raw()))));
+  }
   // No transcendental functions: the atan, tanh and erf laws and Stribeck are not offered in
   // fixed point (configure() refuses them).
 };

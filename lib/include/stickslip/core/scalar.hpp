@@ -16,6 +16,14 @@
 #define STICKSLIP_INLINE_STEP inline
 #endif
 
+// Size-optimised builds (the MCU presets) fold the event search's bisection loop into the event
+// loop of the step: one stack frame instead of two nested ones (the M0+ stack budget).
+#if defined(__OPTIMIZE_SIZE__) && (defined(__GNUC__) || defined(__clang__))
+#define STICKSLIP_COMPACT_INLINE __attribute__((always_inline)) inline
+#else
+#define STICKSLIP_COMPACT_INLINE
+#endif
+
 namespace stickslip {
 
 template <typename T>
@@ -28,6 +36,8 @@ struct FloatScalarTraits {
   static constexpr bool kTaylorEventSearch = true;
   // Saturation cannot happen: IEEE overflow gives Inf, which the step's guards handle.
   static constexpr bool kTracksSaturation = false;
+  // The common path's whole slipping step stays inline (no call: the host's speed).
+  static constexpr bool kCompactStack = false;
   static constexpr Float from_double(double value) noexcept { return static_cast<Float>(value); }
   static constexpr double to_double(Float value) noexcept { return static_cast<double>(value); }
   static bool is_finite(Float value) noexcept { return std::isfinite(value); }
@@ -35,6 +45,9 @@ struct FloatScalarTraits {
   // of F_L is data, which a branch predictor cannot learn.
   static Float abs(Float value) noexcept { return std::fabs(value); }
   static constexpr Float epsilon() noexcept { return std::numeric_limits<Float>::epsilon(); }
+  // The in-step event instants n/d (0 <= n/d <= 1 by construction): a plain division here; a
+  // fixed-point scalar finds it by shift-and-subtract.
+  static Float proportion(Float n, Float d) noexcept { return n / d; }
   // Transcendentals used only by the friction laws that need them (smoothed signum, Stribeck).
   static Float tanh(Float value) noexcept { return std::tanh(value); }
   static Float atan(Float value) noexcept { return std::atan(value); }

@@ -7,7 +7,8 @@
 //
 // The linear part of every integrator is a precomputed affine map (see step_map.hpp); the step
 // does no division and calls no transcendental function except the friction law's own
-// (atan/tanh/erf/exp) and the in-step event location (a few divisions, rare path). Its common
+// (atan/tanh/erf/exp) and the in-step event location (ScalarTraits::proportion(): a division in
+// floating point, shift-and-subtract in fixed point; rare path). Its common
 // path (whole step stuck, or slipping without a sign change) is inline and branch-light; the
 // event search is out of line.
 //
@@ -203,6 +204,13 @@ class Oscillator {
         if (!stuck_step_breaks_away(limit, friction_.static_n)) {
           a_prev_ = a_u_next;
           return stuck_output(a_u_next, limit);
+        }
+        events = step_sticking(in, stuck_fraction, nullptr);
+      } else if constexpr (!Law::velocity_dependent && S::kCompactStack) {
+        StepOutput<T> out;
+        if (whole_step_slips(in, out)) {
+          a_prev_ = a_u_next;
+          return out;
         }
         events = step_sticking(in, stuck_fraction, nullptr);
       } else if constexpr (!Law::velocity_dependent) {
@@ -442,7 +450,7 @@ class Oscillator {
   // clamped at 0 there instead of letting rounding (a_r ~ 0 when |F_L| ~ F_fs) fake one.
   // `whole_step`: the common path's whole step from the start of the step, if it was computed.
   template <typename Force>
-  bool slip(Position& pos, T& x, T& v, T d, const Input& in, const Force& force,
+  STICKSLIP_COMPACT_INLINE bool slip(Position& pos, T& x, T& v, T d, const Input& in, const Force& force,
             bool starting = false, const WholeSlip<T>* whole_step = nullptr) const noexcept {
     if (pos.tick < ticks_per_step_ && (pos.frac > T(0) || starting)) {
       if (taylor_search()) {
@@ -461,7 +469,7 @@ class Oscillator {
             S::abs(v_end) <= rest_rounding_velocity(event_level_, x, f, in.at(phi(pos)), in))
           v_end = T(0);
         if (v_end * d < T(0)) {
-          const T theta = v / (v - v_end);
+          const T theta = S::proportion(v, v - v_end);
           x = x + theta * (x_end - x);
           v = T(0);
           advance_within_tick(pos, pos.frac + theta * (T(1) - pos.frac));
@@ -535,7 +543,7 @@ class Oscillator {
               return true;
             }
           } else if (crossed) {
-            const T theta = v / (v - v_end);  // linear inside one tick
+            const T theta = S::proportion(v, v - v_end);  // linear inside one tick
             x = x + theta * (x_end - x);
             v = T(0);
             advance_within_tick(pos, theta);
@@ -587,6 +595,22 @@ class Oscillator {
     return events;
   }
 
+  // The common path's whole slipping step, out of line for a scalar that asks for a compact
+  // stack (ScalarTraits::kCompactStack: the M0+ build): its temporaries then take no room in the
+  // frame on top of which the event search runs, which starts again from the step's start (the
+  // same operations, so the same bits). True, with `out`, when the step had no event.
+  STICKSLIP_OUT_OF_LINE bool whole_step_slips(const Input& in, StepOutput<T>& out) noexcept {
+    const T force = Law::slip_force(v_, direction_, friction_);
+    const WholeSlip<T> moved = whole_step_slip(maps_[0], k_over_m_, b_over_m_, inv_mass_ * force,
+                                               x_, v_, slip_a_x_, in.a0, in.a1);
+    if (slip_step_has_event(moved, direction_)) return false;
+    x_ = moved.x;
+    v_ = moved.v;
+    slip_a_x_ = moved.seat_acceleration;
+    out = slip_output(force, moved.seat_acceleration);
+    return true;
+  }
+
   // Stick-slip and Stribeck: the event loop of one step. `whole_step`: the common path's whole
   // slipping step (Coulomb), when it found an event.
   STICKSLIP_OUT_OF_LINE int step_sticking(const Input& in, T& stuck_fraction,
@@ -610,7 +634,7 @@ class Oscillator {
         // |limit_now| < F_fs < |limit_end| (at or above F_fs already: break away now).
         T ratio = T(0);
         if (S::abs(limit_now) < friction_.static_n) {
-          ratio = (d * friction_.static_n - limit_now) / (limit_end - limit_now);
+          ratio = S::proportion(d * friction_.static_n - limit_now, limit_end - limit_now);
           ratio = ratio < T(0) ? T(0) : (ratio > T(1) ? T(1) : ratio);
         }
         const T phi_break = phi_now + ratio * (T(1) - phi_now);
@@ -643,7 +667,7 @@ class Oscillator {
 
   // The outputs of a whole stuck step (no event): the seat moves with the floor.
   StepOutput<T> stuck_output(T a_u, T holding_force_n) const noexcept {
-    StepOutput<T> out{};
+    StepOutput<T> out;  // every field is set below (no memset of the whole struct)
     out.x_r_m = x_;
     out.v_r_m_per_s = v_;
     out.a_x_m_per_s2 = a_u;
@@ -657,7 +681,7 @@ class Oscillator {
 
   // The outputs of a whole slipping step (no event), with a_x already computed.
   StepOutput<T> slip_output(T force_n, T a_x) const noexcept {
-    StepOutput<T> out{};
+    StepOutput<T> out;  // every field is set below (no memset of the whole struct)
     out.x_r_m = x_;
     out.v_r_m_per_s = v_;
     out.a_x_m_per_s2 = a_x;
@@ -674,7 +698,7 @@ class Oscillator {
       // No friction element, nothing of it in the output: (1/m) * 0 would still cost a multiply
       // and an add, which floating point may not drop (the linear scene's cost, docs/SCENES.md).
       (void)a_u;
-      StepOutput<T> out{};
+      StepOutput<T> out;  // every field is set below (no memset of the whole struct)
       out.x_r_m = x_;
       out.v_r_m_per_s = v_;
       out.a_x_m_per_s2 = -(k_over_m_ * x_ + b_over_m_ * v_);
@@ -685,7 +709,7 @@ class Oscillator {
       out.stuck = false;
       return out;
     }
-    StepOutput<T> out{};
+    StepOutput<T> out;  // every field is set below (no memset of the whole struct)
     out.x_r_m = x_;
     out.v_r_m_per_s = v_;
     out.stuck_time_s = stuck_fraction * dt_s_;

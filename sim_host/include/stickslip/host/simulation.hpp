@@ -12,9 +12,10 @@
 
 namespace stickslip::host {
 
-// fixed: the core's Q23.40 fixed-point scalar (core/fixed_point.hpp).
-enum class ScalarType : std::uint8_t { float64, float32, fixed };
-const char* scalar_name(ScalarType scalar) noexcept;  // "double", "float", "fixed"
+// fixed: the core's Q23.40 fixed-point scalar (core/fixed_point.hpp); fixed32: Q7.24 in scene
+// units (core/fixed_point32.hpp, models/scaled_oscillator.hpp), the Cortex-M0+ build's scalar.
+enum class ScalarType : std::uint8_t { float64, float32, fixed, fixed32 };
+const char* scalar_name(ScalarType scalar) noexcept;  // "double", "float", "fixed", "fixed32"
 bool parse_scalar(const std::string& name, ScalarType& out) noexcept;
 
 struct SimulationSetup {
@@ -120,5 +121,12 @@ SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vecto
 SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
                                         const std::vector<double>& a_u,
                                         SimulationTrace<double>& trace);
+
+// --scalar fixed32: as simulate_signal_fixed, with ScaledOscillator<Fixed32, Law>: the scene in
+// the units configure() chooses from the declared ranges, the input converted to them once per
+// sample and the outputs converted back to SI (double) for the trace and the statistics.
+SimulationSummary simulate_signal_fixed32(const SimulationSetup& setup,
+                                          const std::vector<double>& a_u,
+                                          SimulationTrace<double>& trace);
 
 }  // namespace stickslip::host

@@ -1,0 +1,203 @@
+// A saturating Q7.24 fixed-point scalar on int32 with int64 intermediates, for cores with only a
+// 32-bit multiply and few registers (Cortex-M0/M0+). The oscillator, the friction laws and the
+// integrators run with it from the same source as with float, double and Q23.40.
+//
+// Why a second format: Q23.40 (core/fixed_point.hpp) holds the scene in SI units, which span 13
+// decades, and costs a 64 x 64-bit product per multiply; on ARMv6-M that is ~70 instructions and a
+// stack frame full of 64-bit temporaries. A 32-bit word cannot hold SI units, but it can hold the
+// scene in scaled units in which every quantity the step forms is O(1): time in steps (dt = 1),
+// mass in seat masses (m = 1) and length in a unit L that configure() chooses from the declared
+// ranges (models/scaled_oscillator.hpp). The template source does not know about the scaling: it
+// is applied to the parameters before configure() and to the input and outputs at the boundary.
+//
+// @par Scaling and overflow (a, b in Q7.24, raw values r_a, r_b in int32)
+// - Range: the raw value is kept in [-(2^31 - 1), 2^31 - 1] (+-128 - 2^-24), symmetric; any result
+//   outside saturates to the nearest end and sets the same sticky flag as Q23.40
+//   (fixed_point_saturated()): never a silent wrap-around.
+// - a + b, a - b: exact; saturate on overflow.
+// - a * b: the exact 62-bit product of the magnitudes (four 16 x 16 -> 32-bit products on ARMv6-M,
+//   no library call), rounded to Q7.24 to nearest, ties away from zero (symmetric); saturates.
+// - a / b: (r_a 2^24) / r_b in int64, truncated toward zero; b == 0 saturates and flags. Only the
+//   rational friction law divides; the stick-slip step does not (ScalarTraits::proportion()).
+// - proportion(n, d) for 0 <= n <= d: n/d in [0, 1] by 24 rounds of shift-and-subtract, rounded to
+//   nearest (ties up): the in-step event instants, without a divide routine.
+// - Conversions: from double rounds to nearest (ties away from zero); from int/unsigned is exact;
+//   both saturate and flag out of range. Conversion to unsigned truncates toward zero.
+#pragma once
+
+#include <climits>
+#include <cstdint>
+
+#include "stickslip/core/fixed_point.hpp"
+
+namespace stickslip {
+
+namespace fixed_point_detail {
+
+constexpr std::int32_t kMaxRaw32 = INT32_MAX;
+
+STICKSLIP_FIXED_INLINE constexpr std::int32_t saturate32(std::int64_t value) noexcept {
+  if (value > kMaxRaw32) {
+    flag_saturation();
+    return kMaxRaw32;
+  }
+  if (value < -kMaxRaw32) {
+    flag_saturation();
+    return -kMaxRaw32;
+  }
+  return static_cast<std::int32_t>(value);
+}
+
+STICKSLIP_FIXED_KERNEL constexpr std::int32_t add_raw32(std::int32_t a, std::int32_t b) noexcept {
+  return saturate32(std::int64_t{a} + b);
+}
+
+// round(a b / 2^F), ties away from zero, saturated.
+template <int F>
+STICKSLIP_FIXED_KERNEL constexpr std::int32_t multiply_raw32(std::int32_t a, std::int32_t b) noexcept {
+  const bool negative = (a < 0) != (b < 0);
+  const auto ua = static_cast<std::uint32_t>(a < 0 ? -a : a);
+  const auto ub = static_cast<std::uint32_t>(b < 0 ? -b : b);
+  // Both < 2^31: the product < 2^62, and adding the half cannot overflow.
+  const std::uint64_t q = (multiply_32x32(ua, ub) + (std::uint64_t{1} << (F - 1))) >> F;
+  if (q > static_cast<std::uint64_t>(kMaxRaw32)) {
+    flag_saturation();
+    return negative ? -kMaxRaw32 : kMaxRaw32;
+  }
+  return negative ? -static_cast<std::int32_t>(q) : static_cast<std::int32_t>(q);
+}
+
+// (a 2^F) / b truncated toward zero, saturated (the rational friction law only).
+template <int F>
+STICKSLIP_FIXED_KERNEL constexpr std::int32_t divide_raw32(std::int32_t a, std::int32_t b) noexcept {
+  if (b == 0) {
+    flag_saturation();
+    return a == 0 ? 0 : (a < 0 ? -kMaxRaw32 : kMaxRaw32);
+  }
+  return saturate32((std::int64_t{a} * (std::int64_t{1} << F)) / b);
+}
+
+}  // namespace fixed_point_detail
+
+template <int FractionBits>
+class FixedPoint32 {
+  static_assert(FractionBits >= 8 && FractionBits <= 29, "Q(31-F).F on int32 with 8 <= F <= 29");
+
+ public:
+  using Raw = std::int32_t;
+  static constexpr int kFractionBits = FractionBits;
+  static constexpr int kIntegerBits = 31 - FractionBits;
+  static constexpr double kScale = static_cast<double>(std::uint32_t{1} << FractionBits);
+  static constexpr double max_value() noexcept {
+    return static_cast<double>(std::uint32_t{1} << kIntegerBits);
+  }
+  static constexpr double resolution() noexcept { return 1.0 / kScale; }
+
+  constexpr FixedPoint32() noexcept = default;
+  STICKSLIP_FIXED_INLINE constexpr explicit FixedPoint32(int value) noexcept : raw_(from_integer(value)) {}
+  constexpr explicit FixedPoint32(unsigned value) noexcept
+      : raw_(from_integer(value > static_cast<unsigned>(INT32_MAX) ? std::int64_t{INT32_MAX}
+                                                                    : std::int64_t{value})) {}
+  constexpr explicit FixedPoint32(double value) noexcept : raw_(from_real(value)) {}
+
+  static constexpr FixedPoint32 from_raw(Raw raw) noexcept {
+    FixedPoint32 f;
+    f.raw_ = raw < -fixed_point_detail::kMaxRaw32 ? -fixed_point_detail::kMaxRaw32 : raw;
+    return f;
+  }
+  constexpr Raw raw() const noexcept { return raw_; }
+  constexpr double to_double() const noexcept { return static_cast<double>(raw_) / kScale; }
+  // Truncates toward zero; a negative value gives 0 (flagged).
+  constexpr explicit operator unsigned() const noexcept {
+    if (raw_ < 0) {
+      fixed_point_detail::flag_saturation();
+      return 0u;
+    }
+    return static_cast<unsigned>(raw_) >> FractionBits;
+  }
+
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator+(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return exactly(fixed_point_detail::add_raw32(a.raw_, b.raw_));
+  }
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator-(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return exactly(fixed_point_detail::add_raw32(a.raw_, -b.raw_));
+  }
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator-(FixedPoint32 a) noexcept {
+    return exactly(-a.raw_);
+  }
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator*(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return exactly(fixed_point_detail::multiply_raw32<FractionBits>(a.raw_, b.raw_));
+  }
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator/(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return exactly(fixed_point_detail::divide_raw32<FractionBits>(a.raw_, b.raw_));
+  }
+  constexpr FixedPoint32& operator+=(FixedPoint32 b) noexcept { return *this = *this + b; }
+  constexpr FixedPoint32& operator-=(FixedPoint32 b) noexcept { return *this = *this - b; }
+  constexpr FixedPoint32& operator*=(FixedPoint32 b) noexcept { return *this = *this * b; }
+
+  friend constexpr bool operator==(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ == b.raw_; }
+  friend constexpr bool operator!=(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ != b.raw_; }
+  friend constexpr bool operator<(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ < b.raw_; }
+  friend constexpr bool operator>(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ > b.raw_; }
+  friend constexpr bool operator<=(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ <= b.raw_; }
+  friend constexpr bool operator>=(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ >= b.raw_; }
+
+ private:
+  static constexpr FixedPoint32 exactly(Raw raw) noexcept {
+    FixedPoint32 f;
+    f.raw_ = raw;
+    return f;
+  }
+  STICKSLIP_FIXED_INLINE static constexpr Raw from_integer(std::int64_t value) noexcept {
+    constexpr std::int64_t limit = std::int64_t{1} << kIntegerBits;
+    if (value >= limit || value <= -limit) {
+      fixed_point_detail::flag_saturation();
+      return value < 0 ? -fixed_point_detail::kMaxRaw32 : fixed_point_detail::kMaxRaw32;
+    }
+    return static_cast<Raw>(value * (std::int64_t{1} << FractionBits));
+  }
+  static constexpr Raw from_real(double value) noexcept {
+    const double scaled = value * kScale;
+    constexpr double kLimit = 2147483647.5;  // rounds to 2^31 - 1 at most
+    if (!(scaled < kLimit && scaled > -kLimit)) {
+      fixed_point_detail::flag_saturation();
+      if (!(scaled == scaled)) return 0;  // NaN
+      return scaled < 0.0 ? -fixed_point_detail::kMaxRaw32 : fixed_point_detail::kMaxRaw32;
+    }
+    const double rounded = scaled < 0.0 ? scaled - 0.5 : scaled + 0.5;
+    return static_cast<Raw>(rounded);
+  }
+  Raw raw_ = 0;
+};
+
+// The scalar of the Cortex-M0+ build: Q7.24 in scaled units (models/scaled_oscillator.hpp).
+using Fixed32 = FixedPoint32<24>;
+
+template <int F>
+struct ScalarTraits<FixedPoint32<F>> {
+  using T = FixedPoint32<F>;
+  static constexpr bool kTaylorEventSearch = false;
+  // Ticks of dt/16: in scaled units (dt = 1) the tick maps' coefficients keep >= 7 significant
+  // bits in 24 fraction bits (the x -> v coupling k dt^2/m 2^-4 is the smallest), and the tick
+  // count 16 fits the integer range with room. Inside a tick the crossing is interpolated.
+  static constexpr int kEventTickLevel = 4;
+  static constexpr bool kTracksSaturation = true;
+  // The M0+ build: the common path's whole slipping step out of line, so that its temporaries
+  // are not on the stack under the event search (Oscillator::whole_step_slips()).
+  static constexpr bool kCompactStack = true;
+  static bool take_saturation() noexcept { return take_fixed_point_saturation(); }
+  static T from_double(double value) noexcept { return T(value); }
+  static constexpr double to_double(T value) noexcept { return value.to_double(); }
+  static constexpr bool is_finite(T /*value*/) noexcept { return true; }
+  STICKSLIP_FIXED_INLINE static constexpr T abs(T value) noexcept { return value < T() ? -value : value; }
+  static constexpr T epsilon() noexcept { return T::from_raw(1); }
+  // n/d clamped to [0, 1] (0 when n and d differ in sign or d == 0), with no divide routine.
+  static constexpr T proportion(T n, T d) noexcept {
+    if (d == T() || (n < T()) != (d < T()) || n == T()) return T();
+    const auto un = static_cast<std::uint32_t>(n.raw() < 0 ? -n.raw() : n.raw());
+    const auto ud = static_cast<std::uint32_t>(d.raw() < 0 ? -d.raw() : d.raw());
+    return T::from_raw(static_cast<std::int32_t>(fixed_point_detail::proportion_raw<F>(un, ud)));
+  }
+};
+
+}  // namespace stickslip

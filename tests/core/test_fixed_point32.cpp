@@ -1,0 +1,435 @@
+// The Q7.24 scalar of the Cortex-M0+ build (core/fixed_point32.hpp) and the oscillator in scene
+// units (models/scaled_oscillator.hpp): every operation against exact integer references with its
+// saturation flagged, the event proportion without a division, the count conversions, the
+// oscillator against double, configure() refusing by name, and the Foundation extremes.
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "CppUTest/TestHarness.h"
+#include "oracles.hpp"
+#include "stickslip/core/fixed_point.hpp"
+#include "stickslip/core/fixed_point32.hpp"
+#include "stickslip/metrics/running_statistics.hpp"
+#include "stickslip/models/oscillator.hpp"
+#include "stickslip/models/scaled_oscillator.hpp"
+
+using namespace stickslip;
+
+namespace {
+
+constexpr std::int32_t kMax32 = INT32_MAX;
+
+// round(a b / 2^24), ties away from zero, in int64 (exact: |a b| < 2^62).
+std::int64_t reference_product(std::int32_t a, std::int32_t b) {
+  const std::int64_t p = std::int64_t{a} * b;
+  const std::int64_t magnitude = p < 0 ? -p : p;
+  const std::int64_t q = (magnitude + (std::int64_t{1} << 23)) >> 24;
+  return p < 0 ? -q : q;
+}
+
+// A deterministic 32-bit generator (xorshift), spread over every magnitude.
+struct Bits {
+  std::uint64_t state = 0x9e3779b97f4a7c15u;
+  std::uint32_t next() {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return static_cast<std::uint32_t>(state >> 11);
+  }
+  // A raw value in the symmetric range with a random number of significant bits.
+  std::int32_t raw() {
+    const int bits = static_cast<int>(next() % 31u) + 1;
+    const auto magnitude = static_cast<std::int32_t>(next() >> (32 - bits));
+    return (next() & 1u) ? -magnitude : magnitude;
+  }
+};
+
+bool contains(const char* text, const char* part) { return std::strstr(text, part) != nullptr; }
+bool starts_with(const char* text, const char* prefix) {
+  return std::strncmp(text, prefix, std::strlen(prefix)) == 0;
+}
+
+// The M0+ firmware's ranges: the int16 mm/s^2 input and the seat's stroke.
+OscillatorParams firmware_params(FrictionModel model, Integrator integrator) {
+  OscillatorParams p = test::reference_params(model, integrator, 1e-3);
+  p.input_range_m_per_s2 = 32.768;
+  p.displacement_range_m = 0.1;
+  return p;
+}
+
+}  // namespace
+
+TEST_GROUP(FixedPoint32Arithmetic) {
+  void setup() override { (void)take_fixed_point_saturation(); }
+};
+
+TEST(FixedPoint32Arithmetic, ProductEqualsTheRoundedExactProduct) {
+  Bits bits;
+  int saturated = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const std::int32_t a = bits.raw(), b = bits.raw();
+    const std::int64_t exact = reference_product(a, b);
+    const Fixed32 got = Fixed32::from_raw(a) * Fixed32::from_raw(b);
+    const bool fits = exact <= kMax32 && exact >= -kMax32;
+    const bool flagged = take_fixed_point_saturation();
+    if (fits) {
+      if (got.raw() != exact || flagged) {
+        FAIL(StringFromFormat("%d * %d: got %d, exact %lld, flag %d", a, b, got.raw(),
+                              static_cast<long long>(exact), flagged ? 1 : 0).asCharString());
+      }
+    } else {
+      ++saturated;
+      CHECK_TRUE(flagged);
+      LONGS_EQUAL(exact > 0 ? kMax32 : -kMax32, got.raw());  // clipped, never wrapped
+    }
+  }
+  CHECK(saturated > 1000);  // the draw did reach the saturating products
+  // Ties round away from zero, symmetric in sign: 1.5 ulp and -1.5 ulp.
+  const Fixed32 half(0.5);
+  LONGS_EQUAL(2, (Fixed32::from_raw(3) * half).raw());
+  LONGS_EQUAL(-2, (Fixed32::from_raw(-3) * half).raw());
+}
+
+TEST(FixedPoint32Arithmetic, EveryOverflowSaturatesAndSetsTheStickyFlag) {
+  const Fixed32 big = Fixed32::from_raw(kMax32 - 5);
+  CHECK_FALSE(fixed_point_saturated());
+  LONGS_EQUAL(kMax32, (big + Fixed32::from_raw(6)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(-kMax32, (-big - Fixed32::from_raw(6)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  // The symmetric range: -2^31 is never produced, so negation cannot overflow.
+  LONGS_EQUAL(-kMax32, (Fixed32::from_raw(-kMax32) - Fixed32::from_raw(1)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(-kMax32, (-big - Fixed32::from_raw(5)).raw());  // exactly the end: no flag
+  CHECK_FALSE(take_fixed_point_saturation());
+  LONGS_EQUAL(-kMax32, Fixed32::from_raw(INT32_MIN).raw());
+  LONGS_EQUAL(kMax32, Fixed32(1e9).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(-kMax32, Fixed32(-200).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(kMax32, Fixed32(128.0).raw());  // one ulp beyond the largest value
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(0, Fixed32(std::nan("")).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(kMax32, (Fixed32(1) / Fixed32(0)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  LONGS_EQUAL(kMax32, (Fixed32(100) / Fixed32(0.5)).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+  // In range: no flag.
+  DOUBLES_EQUAL(127.5, (Fixed32(127) + Fixed32(0.5)).to_double(), 0.0);
+  DOUBLES_EQUAL(-3.0, (Fixed32(1.5) * Fixed32(-2)).to_double(), 0.0);
+  DOUBLES_EQUAL(0.25, (Fixed32(1) / Fixed32(4)).to_double(), 0.0);
+  CHECK_FALSE(take_fixed_point_saturation());
+}
+
+TEST(FixedPoint32Arithmetic, ConversionsRoundToNearestTiesAwayFromZero) {
+  LONGS_EQUAL(1, Fixed32(0.5 / Fixed32::kScale).raw());
+  LONGS_EQUAL(-1, Fixed32(-0.5 / Fixed32::kScale).raw());
+  LONGS_EQUAL(0, Fixed32(0.49 / Fixed32::kScale).raw());
+  LONGS_EQUAL(3 << 24, Fixed32(3).raw());
+  LONGS_EQUAL(5u, static_cast<unsigned>(Fixed32(5.99)));
+  CHECK_FALSE(take_fixed_point_saturation());
+}
+
+// The event instants n/d in [0, 1] by shift-and-subtract, no division: exactly round(n/d 2^F)
+// (ties up) against integer division, for both fixed-point formats.
+TEST(FixedPoint32Arithmetic, ProportionIsTheRoundedQuotientWithoutADivision) {
+  Bits bits;
+  for (int i = 0; i < 100000; ++i) {
+    std::int32_t n = bits.raw(), d = bits.raw();
+    if (d == 0) continue;
+    const Fixed32 got = ScalarTraits<Fixed32>::proportion(Fixed32::from_raw(n), Fixed32::from_raw(d));
+    std::int64_t expected = 0;
+    if (n != 0 && (n < 0) == (d < 0)) {
+      const std::int64_t un = n < 0 ? -std::int64_t{n} : n, ud = d < 0 ? -std::int64_t{d} : d;
+      expected = un >= ud ? (std::int64_t{1} << 24) : ((un << 25) / ud + 1) / 2;
+    }
+    if (got.raw() != expected) {
+      FAIL(StringFromFormat("proportion(%d, %d) = %d, expected %lld", n, d, got.raw(),
+                            static_cast<long long>(expected)).asCharString());
+    }
+  }
+  // Q23.40: against the 128-bit quotient.
+  __extension__ typedef unsigned __int128 U128;
+  for (int i = 0; i < 20000; ++i) {
+    const std::int64_t d = static_cast<std::int64_t>(bits.next()) << 31 | bits.next() | 1;
+    const std::int64_t n = static_cast<std::int64_t>((static_cast<U128>(d) * bits.next()) >> 32);
+    const Fixed got = ScalarTraits<Fixed>::proportion(Fixed::from_raw(-n), Fixed::from_raw(-d));
+    const U128 expected = ((static_cast<U128>(n) << 41) / static_cast<U128>(d) + 1) / 2;
+    CHECK_EQUAL(static_cast<std::int64_t>(expected), got.raw());
+  }
+  CHECK_FALSE(take_fixed_point_saturation());
+}
+
+// mm/s^2 counts to scene units and back: within half an ulp (plus the factor's 2^-25) of the
+// exact product, saturation flagged, output counts clamped.
+TEST(FixedPoint32Arithmetic, CountScaleConvertsWithinTheFactorsPrecision) {
+  const double factor = 3.3e-7;  // scene units per count (a_u in mm/s^2 on the firmware)
+  CountScale<Fixed32> in, out;
+  CHECK_TRUE(in.set_count_to_scalar(factor));
+  CHECK_TRUE(out.set_scalar_to_count(1.0 / factor));
+  CHECK_FALSE(in.set_count_to_scalar(2.0));   // would need a left shift
+  CHECK_FALSE(in.set_count_to_scalar(-1.0));
+  double worst = 0.0;
+  for (std::int32_t count = -32768; count <= 32767; count += 7) {
+    const double exact = count * factor * Fixed32::kScale;
+    const double error = std::fabs(in.to_scalar(count).raw() - exact);
+    if (error > worst) worst = error;
+    const std::int32_t back = out.to_count(in.to_scalar(count), 32767);
+    CHECK(std::abs(back - count) <= 1);
+  }
+  test::note_margin("count -> Q7.24 error, ulp", worst, 0.5 + 32768 * factor * Fixed32::kScale * 0x1p-24);
+  CHECK(worst <= 0.5 + 32768 * factor * Fixed32::kScale * 0x1p-24);
+  LONGS_EQUAL(32767, out.to_count(Fixed32(100), 32767));
+  LONGS_EQUAL(-32767, out.to_count(Fixed32(-100), 32767));
+  CHECK_FALSE(take_fixed_point_saturation());
+  CountScale<Fixed32> huge;
+  CHECK_TRUE(huge.set_count_to_scalar(0.01));  // 30000 counts = 300: beyond the format
+  LONGS_EQUAL(kMax32, huge.to_scalar(30000).raw());
+  CHECK_TRUE(take_fixed_point_saturation());
+}
+
+namespace {
+
+struct Comparison {
+  double transmissibility_fixed, transmissibility_double;
+  double stick_fixed, stick_double;
+  double max_x_error_m;
+  std::uint64_t saturated_steps;
+};
+
+template <typename Law>
+Comparison compare_with_double(const OscillatorParams& params, const std::vector<double>& a_u) {
+  ScaledOscillator<Fixed32, Law> fixed;
+  Oscillator<double, Law> reference;
+  const ConfigResult fixed_status = fixed.configure(params);
+  CHECK_TEXT(fixed_status.ok(), fixed_status.message.c_str());
+  CHECK(reference.configure(params).ok());
+  fixed.oscillator().reset(Fixed32(0), Fixed32(0), fixed.acceleration(a_u[0]));
+  reference.reset(0.0, 0.0, a_u[0]);
+  RunningStatistics<double> fixed_stats, double_stats;
+  fixed_stats.reset();
+  double_stats.reset();
+  Comparison c{};
+  for (std::size_t n = 1; n < a_u.size(); ++n) {
+    const auto f = fixed.step(fixed.acceleration(a_u[n]));
+    const auto d = reference.step(a_u[n]);
+    fixed_stats.add_sample(a_u[n], fixed.to_si_acceleration(f.a_x_m_per_s2));
+    fixed_stats.add_step(f.stuck_fraction.to_double());
+    double_stats.add_sample(a_u[n], d.a_x_m_per_s2);
+    double_stats.add_step(d.stuck_fraction);
+    const double error = std::fabs(fixed.to_si_displacement(f.x_r_m) - d.x_r_m);
+    if (error > c.max_x_error_m) c.max_x_error_m = error;
+  }
+  c.transmissibility_fixed = fixed_stats.transmissibility();
+  c.transmissibility_double = double_stats.transmissibility();
+  c.stick_fixed = fixed_stats.stick_probability();
+  c.stick_double = double_stats.stick_probability();
+  c.saturated_steps = fixed.oscillator().saturated_steps();
+  return c;
+}
+
+}  // namespace
+
+TEST_GROUP(ScaledFixedPoint32Oscillator) {
+  void setup() override { (void)take_fixed_point_saturation(); }
+};
+
+// 30 s of the lorry-like scene at dt = 1 ms, K = 1.3, with the firmware's ranges: the issue's
+// targets (T_ax within 1 %, p within 0.01, no saturation) with a wide margin, exact and symplectic.
+TEST(ScaledFixedPoint32Oscillator, StickSlipAgreesWithDoubleOnTheLorryScene) {
+  const auto a_u = test::make_lorry_signal(3, 0.35).sample(1e-3, 30001);
+  for (Integrator integrator : {Integrator::exact, Integrator::symplectic}) {
+    OscillatorParams p = firmware_params(FrictionModel::stick_slip, integrator);
+    p.kinetic_friction_n = test::kinetic_friction_for_den_hartog(1.3, test::kMassKg, 0.35);
+    p.static_friction_n = 1.25 * p.kinetic_friction_n;
+    const Comparison c = compare_with_double<CoulombStickSlip>(p, a_u);
+    const double t_error = std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0);
+    const double p_error = std::fabs(c.stick_fixed - c.stick_double);
+    test::note_margin("fixed32 vs double T_ax relative error", t_error, 0.01);
+    test::note_margin("fixed32 vs double p absolute error", p_error, 0.01);
+    CHECK(t_error < 1e-3);
+    CHECK(p_error < 1e-3);
+    CHECK(c.stick_double > 0.3);  // the scene does stick
+    CHECK(c.max_x_error_m < 1e-4);
+    LONGS_EQUAL(0, c.saturated_steps);
+  }
+}
+
+TEST(ScaledFixedPoint32Oscillator, HeldLawsAgreeWithDouble) {
+  const auto a_u = test::make_lorry_signal(4, 0.35).sample(1e-3, 10001);
+  OscillatorParams p = firmware_params(FrictionModel::signum, Integrator::exact);
+  p.kinetic_friction_n = 20.0;
+  Comparison c = compare_with_double<SignumFriction>(p, a_u);
+  CHECK(std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0) < 1e-3);
+  LONGS_EQUAL(0, c.saturated_steps);
+  p.model = FrictionModel::smooth;
+  p.smoothing = SmoothingLaw::rational;
+  // c v_r must fit the format at the declared ranges (4 m/s here): c = 5 s/m gives 20 <= 32.
+  p.smoothing_constant_s_per_m = 5.0;
+  c = compare_with_double<SmoothFriction<SmoothingLaw::rational>>(p, a_u);
+  CHECK(std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0) < 1e-3);
+  CHECK(c.max_x_error_m < 1e-5);
+  LONGS_EQUAL(0, c.saturated_steps);
+}
+
+// Beyond the declared input range the step saturates and says so: counted per step, outputs
+// clipped (never wrapped round to the other sign).
+TEST(ScaledFixedPoint32Oscillator, SaturationDuringARunIsFlaggedNeverSilent) {
+  OscillatorParams p = firmware_params(FrictionModel::stick_slip, Integrator::exact);
+  p.kinetic_friction_n = p.static_friction_n = 45.0;
+  ScaledOscillator<Fixed32, CoulombStickSlip> seat;
+  CHECK(seat.configure(p).ok());
+  auto& model = seat.oscillator();
+  model.reset(Fixed32(0), Fixed32(0), Fixed32(0));
+  for (int n = 0; n < 100; ++n) seat.step(seat.acceleration(0.1));
+  LONGS_EQUAL(0, model.saturated_steps());
+  // 5e5 m/s^2 is far beyond the declared 32.768: the input itself does not fit the format. The
+  // conversion sets the flag, and the step it feeds counts it with its own.
+  const Fixed32 too_big = seat.acceleration(5e5);
+  CHECK_TRUE(take_fixed_point_saturation());
+  const auto out = seat.step(seat.acceleration(5e5));
+  CHECK_TRUE(model.saturated());
+  CHECK(model.saturated_steps() >= 1);
+  CHECK(out.a_x_m_per_s2 > Fixed32(0));  // pushed in +a_u, the seat lags: clipped, not wrapped
+  const std::uint64_t after_one = model.saturated_steps();
+  for (int n = 0; n < 2000; ++n) {
+    const auto later = seat.step(too_big);
+    CHECK(later.x_r_m <= Fixed32(0));  // never wrapped to the other sign
+  }
+  CHECK(model.saturated_steps() > after_one);
+  model.reset(Fixed32(0), Fixed32(0), Fixed32(0));
+  LONGS_EQUAL(0, model.saturated_steps());
+}
+
+TEST(ScaledFixedPoint32Oscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuantity) {
+  struct Case {
+    void (*change)(OscillatorParams&);
+    const char* parameter;
+    const char* quantity;
+  };
+  const Case cases[] = {
+      // A 10 m stroke makes L = 0.3 m: 45 N of friction is then below the resolution.
+      {[](OscillatorParams& p) { p.displacement_range_m = 10.0; }, "kinetic_friction_n:", "F_fk"},
+      // dt = 0.2 ms: k dt^2/m = 5.2e-6 has too few significant bits (dt >= 0.69 ms holds 11).
+      {[](OscillatorParams& p) { p.dt_s = 2e-4; }, "stiffness_n_per_m:", "k/m"},
+      // dt = 10 us: k dt^2/m = 1.3e-8 is below what the core accepts at all.
+      {[](OscillatorParams& p) { p.dt_s = 1e-5; }, "stiffness_n_per_m:", "in scene units"},
+      {[](OscillatorParams& p) { p.integrator = Integrator::rk4; }, "integrator:", "rk4"},
+      {[](OscillatorParams& p) { p.input_range_m_per_s2 = -1.0; }, "input_range_m_per_s2:", "> 0"},
+      {[](OscillatorParams& p) { p.mass_kg = -1.0; }, "mass_kg:", "must be"},
+  };
+  for (const Case& c : cases) {
+    OscillatorParams p = firmware_params(FrictionModel::stick_slip, Integrator::exact);
+    p.kinetic_friction_n = p.static_friction_n = 45.0;
+    c.change(p);
+    ScaledOscillator<Fixed32, CoulombStickSlip> seat;
+    const ConfigResult result = seat.configure(p);
+    CHECK_FALSE_TEXT(result.ok(), c.parameter);
+    CHECK_TEXT(starts_with(result.message.c_str(), c.parameter), result.message.c_str());
+    CHECK_TEXT(contains(result.message.c_str(), c.quantity), result.message.c_str());
+  }
+  // The scaled refusals say in which units their values are.
+  OscillatorParams p = firmware_params(FrictionModel::stick_slip, Integrator::exact);
+  p.kinetic_friction_n = p.static_friction_n = 45.0;
+  p.displacement_range_m = 10.0;
+  ScaledOscillator<Fixed32, CoulombStickSlip> seat;
+  const ConfigResult result = seat.configure(p);
+  CHECK_TEXT(contains(result.message.c_str(), "in scene units"), result.message.c_str());
+  CHECK_TEXT(contains(result.message.c_str(), "displacement_range_m"), result.message.c_str());
+}
+
+namespace {
+
+const char* const kParameters[] = {
+    "mass_kg",          "stiffness_n_per_m",    "damping_ns_per_m",     "kinetic_friction_n",
+    "static_friction_n", "smoothing_constant_s_per_m", "dt_s",         "model",
+    "input_range_m_per_s2", "displacement_range_m", "integrator",  "smoothing"};
+
+bool names_a_parameter(const char* message) {
+  for (const char* name : kParameters) {
+    const std::size_t n = std::strlen(name);
+    if (std::strncmp(message, name, n) == 0 && message[n] == ':') return true;
+  }
+  return false;
+}
+
+struct ExtremeTally {
+  int accepted = 0, refused = 0, failures = 0;
+  SimpleString listed;
+  void fail(const SimpleString& what) {
+    if (failures++ < 10) listed += SimpleString("\n\t  ") + what;
+  }
+};
+
+template <typename Law>
+void run_extreme(const OscillatorParams& p, const std::vector<double>& a_u, ExtremeTally& tally) {
+  ScaledOscillator<Fixed32, Law> seat;
+  const ConfigResult result = seat.configure(p);
+  const SimpleString what = StringFromFormat("%s/%s c=%g %s F_fk=%g b=%g dt=%g", model_name(p.model),
+                                             smoothing_name(p.smoothing),
+                                             p.smoothing_constant_s_per_m,
+                                             integrator_name(p.integrator), p.kinetic_friction_n,
+                                             p.damping_ns_per_m, p.dt_s);
+  if (!result.ok()) {
+    ++tally.refused;
+    if (!names_a_parameter(result.message.c_str()))
+      tally.fail(what + ": refusal names no parameter: " + result.message.c_str());
+    return;
+  }
+  ++tally.accepted;
+  seat.oscillator().reset(Fixed32(0), Fixed32(0), seat.acceleration(a_u[0]));
+  bool bounded = true;
+  for (std::size_t n = 1; n < a_u.size(); ++n) {
+    const auto out = seat.step(seat.acceleration(a_u[n]));
+    if (!(std::fabs(seat.to_si_displacement(out.x_r_m)) <= p.displacement_range_m)) bounded = false;
+    if (out.stuck_fraction < Fixed32(0) || out.stuck_fraction > Fixed32(1)) bounded = false;
+  }
+  if (seat.oscillator().saturated_steps() != 0) tally.fail(what + ": saturated");
+  if (!bounded) tally.fail(what + ": |x_r| beyond its range or stuck fraction outside [0, 1]");
+}
+
+}  // namespace
+
+// The extremes of the Foundation grid (K 0..100, damping ratio 0..2, c up to 1e6, dt 1e-5..0.05)
+// for every law and integrator fixed point offers, with a 1 m stroke: refused by name, or run
+// without saturation and bounded (the fixed-point form of "no NaN-equivalent garbage").
+TEST(ScaledFixedPoint32Oscillator, ExtremesAreRefusedByNameOrRunWithoutSaturation) {
+  const auto signal = test::make_lorry_signal(7, 0.35);
+  const double critical = 2.0 * std::sqrt(test::kStiffnessNPerM * test::kMassKg);
+  ExtremeTally tally;
+  for (double dt : {1e-5, 1e-4, 1e-3, 1e-2, 0.05}) {
+    const auto a_u = signal.sample(dt, 600);
+    for (double k_factor : {0.0, 0.5, 3.0, 100.0}) {
+      for (double zeta : {0.0, 0.25, 2.0}) {
+        for (Integrator integrator : {Integrator::euler, Integrator::symplectic, Integrator::exact}) {
+          OscillatorParams p = test::reference_params(FrictionModel::linear, integrator, dt,
+                                                      zeta * critical);
+          p.input_range_m_per_s2 = 32.768;
+          p.displacement_range_m = 1.0;
+          p.kinetic_friction_n = test::kinetic_friction_for_den_hartog(k_factor, test::kMassKg, 0.35);
+          p.static_friction_n = 1.25 * p.kinetic_friction_n;
+          run_extreme<NoFriction>(p, a_u, tally);
+          p.model = FrictionModel::signum;
+          run_extreme<SignumFriction>(p, a_u, tally);
+          p.model = FrictionModel::stick_slip;
+          run_extreme<CoulombStickSlip>(p, a_u, tally);
+          p.model = FrictionModel::smooth;
+          p.smoothing = SmoothingLaw::rational;
+          for (double c : {1.0, 1e3, 1e6}) {
+            p.smoothing_constant_s_per_m = c;
+            run_extreme<SmoothFriction<SmoothingLaw::rational>>(p, a_u, tally);
+          }
+        }
+      }
+    }
+  }
+  CHECK_TEXT(tally.failures == 0, StringFromFormat("%d failing scenes:%s", tally.failures,
+                                                   tally.listed.asCharString()).asCharString());
+  CHECK(tally.accepted > 100);
+  CHECK(tally.refused > 0);
+  test::note_margin("fixed32 grid scenes accepted", tally.accepted, 0.0);
+  test::note_margin("fixed32 grid scenes refused", tally.refused, 0.0);
+}

@@ -78,7 +78,7 @@ extern "C" void stickslip_node_on_frame(const stickslip::can::Frame* frame) {
   const auto raw = static_cast<std::int16_t>(static_cast<std::uint16_t>(
       frame->data[0] | static_cast<unsigned>(frame->data[1]) << 8));
   const Scalar a_u = input_of(raw);
-  last_output = seat.step(a_u);
+  seat.step(a_u, last_output);  // in place: no copy of the outputs on the interrupt's stack
   const stickslip::StepOutput<Scalar>& out = last_output;
 
   static stickslip::can::Frame reply;  // statically allocated: not on the interrupt's stack

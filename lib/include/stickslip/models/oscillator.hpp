@@ -171,19 +171,25 @@ class Oscillator {
   // Advances one sample: from the previous input a_u[n-1] to a_u_next = a_u[n].
   // A non-finite input is replaced by the previous one and counted in rejected_inputs().
   STICKSLIP_INLINE_STEP StepOutput<T> step(T a_u_next) noexcept {
+    StepOutput<T> out;
+    step(a_u_next, out);
+    return out;
+  }
+  // The same, writing the outputs in place: an MCU keeps them in a static record, and the step
+  // then holds no copy of them on its stack.
+  STICKSLIP_INLINE_STEP void step(T a_u_next, StepOutput<T>& out) noexcept {
+    step_unchecked(a_u_next, out);
     if constexpr (S::kTracksSaturation) {
       // Fixed point: every operation of this step that saturated set the sticky flag (so did
       // the caller's conversion of a_u_next, if it did not fit): count the step.
-      const StepOutput<T> out = step_unchecked(a_u_next);
       if (S::take_saturation()) ++saturated_steps_;
-      return out;
-    } else {
-      return step_unchecked(a_u_next);
     }
   }
 
  private:
-  STICKSLIP_INLINE_STEP StepOutput<T> step_unchecked(T a_u_next) noexcept {
+  // Every path fills `out` in place (no temporary copies of it: 28 bytes each on the M0+, whose
+  // stack is the scarce resource).
+  STICKSLIP_INLINE_STEP void step_unchecked(T a_u_next, StepOutput<T>& out) noexcept {
     if (!S::is_finite(a_u_next)) {
       a_u_next = a_prev_;
       ++rejected_inputs_;
@@ -203,14 +209,14 @@ class Oscillator {
         const T limit = stuck_limit_force(mass_kg_, stiffness_, x_, in.a1);
         if (!stuck_step_breaks_away(limit, friction_.static_n)) {
           a_prev_ = a_u_next;
-          return stuck_output(a_u_next, limit);
+          write_stuck_output(out, a_u_next, limit);
+          return;
         }
         events = step_sticking(in, stuck_fraction, nullptr);
       } else if constexpr (!Law::velocity_dependent && S::kCompactStack) {
-        StepOutput<T> out;
         if (whole_step_slips(in, out)) {
           a_prev_ = a_u_next;
-          return out;
+          return;
         }
         events = step_sticking(in, stuck_fraction, nullptr);
       } else if constexpr (!Law::velocity_dependent) {
@@ -224,7 +230,8 @@ class Oscillator {
           v_ = moved.v;
           slip_a_x_ = moved.seat_acceleration;
           a_prev_ = a_u_next;
-          return slip_output(force, moved.seat_acceleration);
+          write_slip_output(out, force, moved.seat_acceleration);
+          return;
         }
         // The search starts from this whole step instead of computing it again.
         events = step_sticking(in, stuck_fraction, &moved);
@@ -234,9 +241,8 @@ class Oscillator {
     }
     a_prev_ = a_u_next;
     guard_state();
-    const StepOutput<T> out = output(a_u_next, stuck_fraction, events);
+    write_output(out, a_u_next, stuck_fraction, events);
     slip_a_x_ = out.a_x_m_per_s2;  // the seat acceleration the next step starts from, if slipping
-    return out;
   }
 
  public:
@@ -607,7 +613,7 @@ class Oscillator {
     x_ = moved.x;
     v_ = moved.v;
     slip_a_x_ = moved.seat_acceleration;
-    out = slip_output(force, moved.seat_acceleration);
+    write_slip_output(out, force, moved.seat_acceleration);
     return true;
   }
 
@@ -665,9 +671,9 @@ class Oscillator {
     }
   }
 
-  // The outputs of a whole stuck step (no event): the seat moves with the floor.
-  StepOutput<T> stuck_output(T a_u, T holding_force_n) const noexcept {
-    StepOutput<T> out;  // every field is set below (no memset of the whole struct)
+  // The outputs of a whole stuck step (no event): the seat moves with the floor. (The write_*
+  // functions set every field: no memset of the whole struct.)
+  void write_stuck_output(StepOutput<T>& out, T a_u, T holding_force_n) const noexcept {
     out.x_r_m = x_;
     out.v_r_m_per_s = v_;
     out.a_x_m_per_s2 = a_u;
@@ -676,12 +682,10 @@ class Oscillator {
     out.stuck_fraction = T(1);
     out.stuck = true;
     out.events = 0;
-    return out;
   }
 
   // The outputs of a whole slipping step (no event), with a_x already computed.
-  StepOutput<T> slip_output(T force_n, T a_x) const noexcept {
-    StepOutput<T> out;  // every field is set below (no memset of the whole struct)
+  void write_slip_output(StepOutput<T>& out, T force_n, T a_x) const noexcept {
     out.x_r_m = x_;
     out.v_r_m_per_s = v_;
     out.a_x_m_per_s2 = a_x;
@@ -690,15 +694,19 @@ class Oscillator {
     out.stuck_fraction = T(0);
     out.stuck = false;
     out.events = 0;
-    return out;
   }
 
   StepOutput<T> output(T a_u, T stuck_fraction, int events) const noexcept {
+    StepOutput<T> out;
+    write_output(out, a_u, stuck_fraction, events);
+    return out;
+  }
+
+  void write_output(StepOutput<T>& out, T a_u, T stuck_fraction, int events) const noexcept {
     if constexpr (Law::kind == LawKind::none) {
       // No friction element, nothing of it in the output: (1/m) * 0 would still cost a multiply
       // and an add, which floating point may not drop (the linear scene's cost, docs/SCENES.md).
       (void)a_u;
-      StepOutput<T> out;  // every field is set below (no memset of the whole struct)
       out.x_r_m = x_;
       out.v_r_m_per_s = v_;
       out.a_x_m_per_s2 = -(k_over_m_ * x_ + b_over_m_ * v_);
@@ -707,9 +715,8 @@ class Oscillator {
       out.stuck_fraction = stuck_fraction;
       out.events = static_cast<std::uint8_t>(events);
       out.stuck = false;
-      return out;
+      return;
     }
-    StepOutput<T> out;  // every field is set below (no memset of the whole struct)
     out.x_r_m = x_;
     out.v_r_m_per_s = v_;
     out.stuck_time_s = stuck_fraction * dt_s_;
@@ -724,13 +731,12 @@ class Oscillator {
         out.stuck = true;
         out.friction_n = limit_force(a_u, x_);  // the force that holds the seat
         out.a_x_m_per_s2 = a_u;                 // moves with the floor, exactly
-        return out;
+        return;
       }
       force = Law::slip_force(v_, direction_, friction_);
     }
     out.friction_n = force;
     out.a_x_m_per_s2 = seat_acceleration(k_over_m_, b_over_m_, inv_mass_, x_, v_, force);
-    return out;
   }
 
   // A running model never emits NaN/Inf: should the state ever leave the finite range (it cannot

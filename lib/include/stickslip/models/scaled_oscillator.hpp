@@ -182,6 +182,9 @@ class ScaledOscillator {
 
   // The input a_u in units of units().acceleration_m_per_s2(); outputs in scene units.
   STICKSLIP_INLINE_STEP StepOutput<T> step(T a_u_scaled) noexcept { return oscillator_.step(a_u_scaled); }
+  STICKSLIP_INLINE_STEP void step(T a_u_scaled, StepOutput<T>& out) noexcept {
+    oscillator_.step(a_u_scaled, out);
+  }
 
   // Host-side conversions (double): SI -> scene units and back.
   T acceleration(double a_m_per_s2) const noexcept {

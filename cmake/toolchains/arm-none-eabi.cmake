@@ -25,7 +25,7 @@ list(APPEND CMAKE_TRY_COMPILE_PLATFORM_VARIABLES STICKSLIP_MCU_FLAGS)
 # is not called), and no thread-safe statics (bare metal, one core: no __cxa_guard_*).
 set(CMAKE_C_FLAGS_INIT "${STICKSLIP_MCU_FLAGS} -ffunction-sections -fdata-sections")
 set(CMAKE_CXX_FLAGS_INIT
-    "${STICKSLIP_MCU_FLAGS} -ffunction-sections -fdata-sections -fno-exceptions -fno-rtti -fno-threadsafe-statics -fno-use-cxa-atexit")
+    "${STICKSLIP_MCU_FLAGS} -ffunction-sections -fdata-sections -fno-exceptions -fno-rtti -fno-threadsafe-statics -fno-use-cxa-atexit -Wno-psabi")
 # newlib-nano, the system calls stubbed (nosys: a program that calls none links), and unused
 # sections dropped.
 set(CMAKE_EXE_LINKER_FLAGS_INIT "--specs=nano.specs --specs=nosys.specs -Wl,--gc-sections")

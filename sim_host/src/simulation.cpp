@@ -195,6 +195,19 @@ SimulationSummary simulate_signal_fixed32(const SimulationSetup& setup,
   if (setup.reference) {
     throw UsageError("--scalar: the reference integrator runs in double only; use --scalar double");
   }
+  // Models fixed point cannot run are named by the core's own check (as for --scalar fixed).
+  if (setup.params.model == FrictionModel::stribeck ||
+      (setup.params.model == FrictionModel::smooth &&
+       setup.params.smoothing != SmoothingLaw::rational)) {
+    DiscreteModel model;
+    ConfigResult refused = discretise(setup.params, model);
+    if (refused.ok()) {
+      refused = check_fixed_point_scene(setup.params, model, Fixed32::kIntegerBits,
+                                        Fixed32::kFractionBits,
+                                        ScalarTraits<Fixed32>::kEventTickLevel);
+    }
+    throw ConfigurationError(refused.message.c_str());
+  }
   trace.x_r_m.resize(count);
   trace.v_r_m_per_s.resize(count);
   trace.a_x_m_per_s2.resize(count);

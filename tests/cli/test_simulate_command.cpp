@@ -5,8 +5,10 @@
 
 #include "cli_test_support.hpp"
 #include "stickslip/core/fixed_point.hpp"
+#include "stickslip/core/fixed_point32.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/models/dispatch.hpp"
+#include "stickslip/models/scaled_oscillator.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 
@@ -220,6 +222,47 @@ TEST(SimulateCommand, FixedRunEqualsADirectFixedRunBitForBit) {
   LONGS_EQUAL(0, hard.status);
   CHECK_TRUE(last_line_json(hard.out)["saturation"].get<bool>());
   CHECK(last_line_json(hard.out)["saturated_steps"].get<long>() >= 1);
+}
+
+// --scalar fixed32: every row equals a direct ScaledOscillator<Fixed32> run with the outputs
+// converted to SI; what the Q7.24 scaling cannot hold is refused by name, in scene units.
+TEST(SimulateCommand, Fixed32RunEqualsADirectScaledRunBitForBit) {
+  const CliRun run = simulate({"--model", "stick-slip", "--ffk", "45", "--ffs", "60", "--scalar",
+                               "fixed32", "--input-range", "32.768", "--displacement-range", "0.1",
+                               "--repetitions", "1"});
+  LONGS_EQUAL_TEXT(0, run.status, run.err.c_str());
+  const nlohmann::json stats = last_line_json(run.out);
+  STRCMP_EQUAL("fixed32", stats["scalar"].get<std::string>().c_str());
+  CHECK_FALSE(stats["saturation"].get<bool>());
+  auto p = params(stickslip::FrictionModel::stick_slip, 45.0);
+  p.static_friction_n = 60.0;
+  p.input_range_m_per_s2 = 32.768;
+  p.displacement_range_m = 0.1;
+  const Table table = stickslip::test::read_table(dir.file("out.csv"));
+  using stickslip::Fixed32;
+  stickslip::ScaledOscillator<Fixed32, stickslip::CoulombStickSlip> seat;
+  CHECK_TRUE(seat.configure(p).ok());
+  seat.oscillator().reset(Fixed32(0), Fixed32(0), seat.acceleration(table.rows[0][kAu]));
+  for (std::size_t n = 0; n < table.rows.size(); ++n) {
+    const auto out = n == 0 ? seat.oscillator().current()
+                            : seat.step(seat.acceleration(table.rows[n][kAu]));
+    const auto& row = table.rows[n];
+    if (!(row[kXr] == seat.to_si_displacement(out.x_r_m) &&
+          row[kVr] == seat.to_si_velocity(out.v_r_m_per_s) &&
+          row[kAx] == seat.to_si_acceleration(out.a_x_m_per_s2) &&
+          row[kFf] == seat.to_si_force(out.friction_n) && row[kStuck] == (out.stuck ? 1.0 : 0.0))) {
+      FAIL(("row " + std::to_string(n) + " differs from the direct Q7.24 run").c_str());
+    }
+  }
+  // The default 1 m stroke makes L = 31 mm: 45 N of friction is then below the resolution.
+  const CliRun wide = simulate({"--model", "stick-slip", "--ffk", "45", "--scalar", "fixed32"});
+  CHECK(wide.status != 0);
+  CHECK_TEXT(wide.err.find("--ffk: kinetic_friction_n: in scene units") != std::string::npos,
+             wide.err.c_str());
+  const CliRun stribeck = simulate({"--model", "stribeck", "--ffk", "45", "--scalar", "fixed32"});
+  CHECK(stribeck.status != 0);
+  CHECK_TEXT(stribeck.err.find("--model: model: stribeck needs exp()") != std::string::npos,
+             stribeck.err.c_str());
 }
 
 TEST(SimulateCommand, FixedRefusesWhatFixedPointDoesNotOfferByName) {

@@ -122,7 +122,8 @@ extern "C" void stickslip_node_record(std::uint8_t* out) {
 
 // The CAN controller's receive interrupt (IRQ 0 in startup.cpp's vector table).
 extern "C" void CAN0_IRQHandler() {
-  stickslip::can::Frame frame;
+  // Static: the 80-byte CAN FD frame stays off the interrupt's stack (the handler does not nest).
+  static stickslip::can::Frame frame;
   while (board_can_read(&frame)) stickslip_node_on_frame(&frame);
 }
 

@@ -8,9 +8,9 @@
 // The linear part of every integrator is a precomputed affine map (see step_map.hpp); the step
 // does no division and calls no transcendental function except the friction law's own
 // (atan/tanh/erf/exp) and the in-step event location (ScalarTraits::proportion(): a division in
-// floating point, shift-and-subtract in fixed point; rare path). Its common
-// path (whole step stuck, or slipping without a sign change) is inline and branch-light; the
-// event search is out of line.
+// floating point, shift-and-subtract in fixed point; rare path). Its common path (whole step
+// stuck, or slipping without a sign change) is inline and branch-light; the event search is out
+// of line.
 //
 // Stick-slip: while slipping, a sign change of v_r inside the step is located by bisection on a
 // dyadic grid of the step (maps for dt/2^l are precomputed) down to a "tick", inside which the
@@ -456,8 +456,9 @@ class Oscillator {
   // clamped at 0 there instead of letting rounding (a_r ~ 0 when |F_L| ~ F_fs) fake one.
   // `whole_step`: the common path's whole step from the start of the step, if it was computed.
   template <typename Force>
-  STICKSLIP_COMPACT_INLINE bool slip(Position& pos, T& x, T& v, T d, const Input& in, const Force& force,
-            bool starting = false, const WholeSlip<T>* whole_step = nullptr) const noexcept {
+  STICKSLIP_COMPACT_INLINE bool slip(Position& pos, T& x, T& v, T d, const Input& in,
+                                     const Force& force, bool starting = false,
+                                     const WholeSlip<T>* whole_step = nullptr) const noexcept {
     if (pos.tick < ticks_per_step_ && (pos.frac > T(0) || starting)) {
       if (taylor_search()) {
         if (finish_tick_taylor(pos, x, v, d, in, force(v), starting)) return true;

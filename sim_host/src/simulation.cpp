@@ -103,23 +103,25 @@ SimulationSummary simulate_reference(const SimulationSetup& setup, const std::ve
 
 }  // namespace
 
-SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
-                                        const std::vector<double>& a_u,
-                                        SimulationTrace<double>& trace) {
-  const std::size_t count = a_u.size();
+namespace {
+
+// What both fixed-point runs check first: the input, the solver, and the models fixed point does
+// not offer (named by the core's own check); then the trace's rows.
+template <typename T>
+void prepare_fixed_point_run(const SimulationSetup& setup, std::size_t count,
+                             SimulationTrace<double>& trace) {
   if (count < 2) throw HostError("simulate needs at least 2 samples");
   if (setup.reference) {
     throw UsageError("--scalar: the reference integrator runs in double only; use --scalar double");
   }
-  // Models fixed point cannot run are named by the core, from the model's own check.
   if (setup.params.model == FrictionModel::stribeck ||
       (setup.params.model == FrictionModel::smooth &&
        setup.params.smoothing != SmoothingLaw::rational)) {
     DiscreteModel model;
     ConfigResult refused = discretise(setup.params, model);
     if (refused.ok()) {
-      refused = check_fixed_point_scene(setup.params, model, Fixed::kIntegerBits,
-                                        Fixed::kFractionBits, ScalarTraits<Fixed>::kEventTickLevel);
+      refused = check_fixed_point_scene(setup.params, model, T::kIntegerBits, T::kFractionBits,
+                                        ScalarTraits<T>::kEventTickLevel);
     }
     throw ConfigurationError(refused.message.c_str());
   }
@@ -128,167 +130,94 @@ SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
   trace.a_x_m_per_s2.resize(count);
   trace.friction_n.resize(count);
   trace.stuck.resize(count);
-  const int repetitions = repetitions_for(setup, count);
+}
 
+// The timed loop of a configured fixed-point oscillator whose values are in `units` (all 1 for
+// Q23.40, which runs in SI; the scene units of a ScaledOscillator for Q7.24). The input is
+// converted once per sample, as an ECU converts its input: a sample beyond the format saturates
+// and the step it feeds counts it. The trace and the statistics hold the outputs in SI.
+template <typename T, typename Model>
+SimulationSummary run_fixed_point(const SimulationSetup& setup, const std::vector<double>& a_u,
+                                  SimulationTrace<double>& trace, Model& oscillator,
+                                  const SceneUnits& units) {
+  const std::size_t count = a_u.size();
+  const int repetitions = repetitions_for(setup, count);
+  const double acceleration_unit = units.acceleration_m_per_s2();
+  const auto input = [&](double a_m_per_s2) { return T(a_m_per_s2 / acceleration_unit); };
+  const T x0(setup.x0_m / units.length_m), v0(setup.v0_m_per_s / units.velocity_m_per_s());
+  RunningStatistics<double> statistics;
+  std::uint64_t events = 0, saturated_steps = 0;
+  const auto store = [&](std::size_t n, const StepOutput<T>& out) {
+    trace.x_r_m[n] = out.x_r_m.to_double() * units.length_m;
+    trace.v_r_m_per_s[n] = out.v_r_m_per_s.to_double() * units.velocity_m_per_s();
+    trace.a_x_m_per_s2[n] = out.a_x_m_per_s2.to_double() * acceleration_unit;
+    trace.friction_n[n] = out.friction_n.to_double() * units.force_n();
+    trace.stuck[n] = out.stuck ? 1 : 0;
+  };
+  std::vector<double> seconds;
+  seconds.reserve(static_cast<std::size_t>(repetitions));
+  for (int repetition = 0; repetition < repetitions; ++repetition) {
+    const auto start = std::chrono::steady_clock::now();
+    // (The initial state's conversions: a value beyond the format is counted as a saturated
+    // step of its own.)
+    const T a_u0 = input(a_u[0]);
+    const bool start_saturated = take_fixed_point_saturation();
+    oscillator.reset(x0, v0, a_u0);
+    statistics.reset();
+    events = 0;
+    store(0, oscillator.current());
+    statistics.add_sample(a_u0.to_double() * acceleration_unit, trace.a_x_m_per_s2[0]);
+    for (std::size_t n = 1; n < count; ++n) {
+      const T a_u_n = input(a_u[n]);
+      const StepOutput<T> out = oscillator.step(a_u_n);
+      store(n, out);
+      statistics.add_sample(a_u_n.to_double() * acceleration_unit, trace.a_x_m_per_s2[n]);
+      statistics.add_step(out.stuck_fraction.to_double());
+      events += out.events;
+    }
+    const auto stop = std::chrono::steady_clock::now();
+    seconds.push_back(std::chrono::duration<double>(stop - start).count());
+    saturated_steps = oscillator.saturated_steps() + (start_saturated ? 1u : 0u);
+  }
+  std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
+
+  SimulationSummary summary;
+  summarise_run(summary, statistics, oscillator, events);
+  summary.dt_s = setup.params.dt_s;
+  summary.den_hartog_k =
+      den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
+  summary.ns_per_sample =
+      seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
+  summary.repetitions = repetitions;
+  summary.saturated_steps = saturated_steps;
+  return summary;
+}
+
+template <typename Law>
+using Fixed32Seat = ScaledOscillator<Fixed32, Law>;
+
+}  // namespace
+
+SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
+                                        const std::vector<double>& a_u,
+                                        SimulationTrace<double>& trace) {
+  prepare_fixed_point_run<Fixed>(setup, a_u.size(), trace);
   return with_fixed_oscillator(setup.params, [&](auto& oscillator) {
     const ConfigResult configured = oscillator.configure(setup.params);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
-    const Fixed x0(setup.x0_m), v0(setup.v0_m_per_s);
-
-    RunningStatistics<double> statistics;
-    std::uint64_t events = 0, saturated_steps = 0;
-    const auto store = [&](std::size_t n, const StepOutput<Fixed>& out) {
-      trace.x_r_m[n] = out.x_r_m.to_double();
-      trace.v_r_m_per_s[n] = out.v_r_m_per_s.to_double();
-      trace.a_x_m_per_s2[n] = out.a_x_m_per_s2.to_double();
-      trace.friction_n[n] = out.friction_n.to_double();
-      trace.stuck[n] = out.stuck ? 1 : 0;
-    };
-    std::vector<double> seconds;
-    seconds.reserve(static_cast<std::size_t>(repetitions));
-    for (int repetition = 0; repetition < repetitions; ++repetition) {
-      const auto start = std::chrono::steady_clock::now();
-      // (The initial state's conversions: a value beyond the format is counted as a saturated
-      // step of its own.)
-      const Fixed a_u0(a_u[0]);
-      const bool start_saturated = take_fixed_point_saturation();
-      oscillator.reset(x0, v0, a_u0);
-      statistics.reset();
-      events = 0;
-      const StepOutput<Fixed> initial = oscillator.current();
-      store(0, initial);
-      statistics.add_sample(a_u0.to_double(), initial.a_x_m_per_s2.to_double());
-      for (std::size_t n = 1; n < count; ++n) {
-        // Converted here, as an ECU converts its input: a sample beyond the format saturates and
-        // the step it feeds counts it.
-        const Fixed a_u_n(a_u[n]);
-        const StepOutput<Fixed> out = oscillator.step(a_u_n);
-        store(n, out);
-        statistics.add_sample(a_u_n.to_double(), out.a_x_m_per_s2.to_double());
-        statistics.add_step(out.stuck_fraction.to_double());
-        events += out.events;
-      }
-      const auto stop = std::chrono::steady_clock::now();
-      seconds.push_back(std::chrono::duration<double>(stop - start).count());
-      saturated_steps = oscillator.saturated_steps() + (start_saturated ? 1u : 0u);
-    }
-    std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
-
-    SimulationSummary summary;
-    summarise_run(summary, statistics, oscillator, events);
-    summary.dt_s = setup.params.dt_s;
-    summary.den_hartog_k =
-        den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
-    summary.ns_per_sample =
-        seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
-    summary.repetitions = repetitions;
-    summary.saturated_steps = saturated_steps;
-    return summary;
+    return run_fixed_point<Fixed>(setup, a_u, trace, oscillator, SceneUnits{});  // SI
   });
 }
 
 SimulationSummary simulate_signal_fixed32(const SimulationSetup& setup,
                                           const std::vector<double>& a_u,
                                           SimulationTrace<double>& trace) {
-  const std::size_t count = a_u.size();
-  if (count < 2) throw HostError("simulate needs at least 2 samples");
-  if (setup.reference) {
-    throw UsageError("--scalar: the reference integrator runs in double only; use --scalar double");
-  }
-  // Models fixed point cannot run are named by the core's own check (as for --scalar fixed).
-  if (setup.params.model == FrictionModel::stribeck ||
-      (setup.params.model == FrictionModel::smooth &&
-       setup.params.smoothing != SmoothingLaw::rational)) {
-    DiscreteModel model;
-    ConfigResult refused = discretise(setup.params, model);
-    if (refused.ok()) {
-      refused = check_fixed_point_scene(setup.params, model, Fixed32::kIntegerBits,
-                                        Fixed32::kFractionBits,
-                                        ScalarTraits<Fixed32>::kEventTickLevel);
-    }
-    throw ConfigurationError(refused.message.c_str());
-  }
-  trace.x_r_m.resize(count);
-  trace.v_r_m_per_s.resize(count);
-  trace.a_x_m_per_s2.resize(count);
-  trace.friction_n.resize(count);
-  trace.stuck.resize(count);
-  const int repetitions = repetitions_for(setup, count);
-
-  const auto run = [&](auto& seat) {
+  prepare_fixed_point_run<Fixed32>(setup, a_u.size(), trace);
+  return with_fixed_law<Fixed32Seat>(setup.params, [&](auto& seat) {
     const ConfigResult configured = seat.configure(setup.params);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
-    // The initial state and the input in scene units (the input converted once per sample, as
-    // an ECU converts its input: a sample beyond the format saturates and is counted).
-    const Fixed32 x0(setup.x0_m / seat.units().length_m);
-    const Fixed32 v0(setup.v0_m_per_s / seat.units().velocity_m_per_s());
-    RunningStatistics<double> statistics;
-    std::uint64_t events = 0, saturated_steps = 0;
-    const auto store = [&](std::size_t n, const StepOutput<Fixed32>& out) {
-      trace.x_r_m[n] = seat.to_si_displacement(out.x_r_m);
-      trace.v_r_m_per_s[n] = seat.to_si_velocity(out.v_r_m_per_s);
-      trace.a_x_m_per_s2[n] = seat.to_si_acceleration(out.a_x_m_per_s2);
-      trace.friction_n[n] = seat.to_si_force(out.friction_n);
-      trace.stuck[n] = out.stuck ? 1 : 0;
-    };
-    std::vector<double> seconds;
-    seconds.reserve(static_cast<std::size_t>(repetitions));
-    auto& oscillator = seat.oscillator();
-    for (int repetition = 0; repetition < repetitions; ++repetition) {
-      const auto start = std::chrono::steady_clock::now();
-      const Fixed32 a_u0 = seat.acceleration(a_u[0]);
-      const bool start_saturated = take_fixed_point_saturation();
-      oscillator.reset(x0, v0, a_u0);
-      statistics.reset();
-      events = 0;
-      const StepOutput<Fixed32> initial = oscillator.current();
-      store(0, initial);
-      statistics.add_sample(seat.to_si_acceleration(a_u0), trace.a_x_m_per_s2[0]);
-      for (std::size_t n = 1; n < count; ++n) {
-        const Fixed32 a_u_n = seat.acceleration(a_u[n]);
-        const StepOutput<Fixed32> out = seat.step(a_u_n);
-        store(n, out);
-        statistics.add_sample(seat.to_si_acceleration(a_u_n), trace.a_x_m_per_s2[n]);
-        statistics.add_step(out.stuck_fraction.to_double());
-        events += out.events;
-      }
-      const auto stop = std::chrono::steady_clock::now();
-      seconds.push_back(std::chrono::duration<double>(stop - start).count());
-      saturated_steps = oscillator.saturated_steps() + (start_saturated ? 1u : 0u);
-    }
-    std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
-
-    SimulationSummary summary;
-    summarise_run(summary, statistics, oscillator, events);
-    summary.dt_s = setup.params.dt_s;
-    summary.den_hartog_k =
-        den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
-    summary.ns_per_sample =
-        seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
-    summary.repetitions = repetitions;
-    summary.saturated_steps = saturated_steps;
-    return summary;
-  };
-  // The oscillators fixed point offers; any other model goes to the stick-slip one, whose
-  // configure() refuses it by name.
-  switch (setup.params.model) {
-    case FrictionModel::linear: {
-      ScaledOscillator<Fixed32, NoFriction> seat;
-      return run(seat);
-    }
-    case FrictionModel::signum: {
-      ScaledOscillator<Fixed32, SignumFriction> seat;
-      return run(seat);
-    }
-    case FrictionModel::smooth: {
-      ScaledOscillator<Fixed32, SmoothFriction<SmoothingLaw::rational>> seat;
-      return run(seat);
-    }
-    default: {
-      ScaledOscillator<Fixed32, CoulombStickSlip> seat;
-      return run(seat);
-    }
-  }
+    return run_fixed_point<Fixed32>(setup, a_u, trace, seat.oscillator(), seat.units());
+  });
 }
 
 template <typename T>

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "CppUTest/TestHarness.h"
+#include "fixed_point_extremes.hpp"
 #include "oracles.hpp"
 #include "stickslip/core/fixed_point.hpp"
 #include "stickslip/core/fixed_point32.hpp"
@@ -343,39 +344,15 @@ TEST(ScaledFixedPoint32Oscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuant
 
 namespace {
 
-const char* const kParameters[] = {
-    "mass_kg",          "stiffness_n_per_m",    "damping_ns_per_m",     "kinetic_friction_n",
-    "static_friction_n", "smoothing_constant_s_per_m", "dt_s",         "model",
-    "input_range_m_per_s2", "displacement_range_m", "integrator",  "smoothing"};
-
-bool names_a_parameter(const char* message) {
-  for (const char* name : kParameters) {
-    const std::size_t n = std::strlen(name);
-    if (std::strncmp(message, name, n) == 0 && message[n] == ':') return true;
-  }
-  return false;
-}
-
-struct ExtremeTally {
-  int accepted = 0, refused = 0, failures = 0;
-  SimpleString listed;
-  void fail(const SimpleString& what) {
-    if (failures++ < 10) listed += SimpleString("\n\t  ") + what;
-  }
-};
-
 template <typename Law>
-void run_extreme(const OscillatorParams& p, const std::vector<double>& a_u, ExtremeTally& tally) {
+void run_extreme(const OscillatorParams& p, const std::vector<double>& a_u,
+                 test::ExtremeTally& tally) {
   ScaledOscillator<Fixed32, Law> seat;
   const ConfigResult result = seat.configure(p);
-  const SimpleString what = StringFromFormat("%s/%s c=%g %s F_fk=%g b=%g dt=%g", model_name(p.model),
-                                             smoothing_name(p.smoothing),
-                                             p.smoothing_constant_s_per_m,
-                                             integrator_name(p.integrator), p.kinetic_friction_n,
-                                             p.damping_ns_per_m, p.dt_s);
+  const SimpleString what = test::describe_scene(p);
   if (!result.ok()) {
     ++tally.refused;
-    if (!names_a_parameter(result.message.c_str()))
+    if (!test::names_a_fixed_point_parameter(result.message.c_str()))
       tally.fail(what + ": refusal names no parameter: " + result.message.c_str());
     return;
   }
@@ -393,39 +370,14 @@ void run_extreme(const OscillatorParams& p, const std::vector<double>& a_u, Extr
 
 }  // namespace
 
-// The extremes of the Foundation grid (K 0..100, damping ratio 0..2, c up to 1e6, dt 1e-5..0.05)
-// for every law and integrator fixed point offers, with a 1 m stroke: refused by name, or run
-// without saturation and bounded (the fixed-point form of "no NaN-equivalent garbage").
+// The extremes of the Foundation grid (test::for_each_extreme_scene) with the firmware's input
+// range and a 1 m stroke: refused by name, or run without saturation and bounded.
 TEST(ScaledFixedPoint32Oscillator, ExtremesAreRefusedByNameOrRunWithoutSaturation) {
-  const auto signal = test::make_lorry_signal(7, 0.35);
-  const double critical = 2.0 * std::sqrt(test::kStiffnessNPerM * test::kMassKg);
-  ExtremeTally tally;
-  for (double dt : {1e-5, 1e-4, 1e-3, 1e-2, 0.05}) {
-    const auto a_u = signal.sample(dt, 600);
-    for (double k_factor : {0.0, 0.5, 3.0, 100.0}) {
-      for (double zeta : {0.0, 0.25, 2.0}) {
-        for (Integrator integrator : {Integrator::euler, Integrator::symplectic, Integrator::exact}) {
-          OscillatorParams p = test::reference_params(FrictionModel::linear, integrator, dt,
-                                                      zeta * critical);
-          p.input_range_m_per_s2 = 32.768;
-          p.displacement_range_m = 1.0;
-          p.kinetic_friction_n = test::kinetic_friction_for_den_hartog(k_factor, test::kMassKg, 0.35);
-          p.static_friction_n = 1.25 * p.kinetic_friction_n;
-          run_extreme<NoFriction>(p, a_u, tally);
-          p.model = FrictionModel::signum;
-          run_extreme<SignumFriction>(p, a_u, tally);
-          p.model = FrictionModel::stick_slip;
-          run_extreme<CoulombStickSlip>(p, a_u, tally);
-          p.model = FrictionModel::smooth;
-          p.smoothing = SmoothingLaw::rational;
-          for (double c : {1.0, 1e3, 1e6}) {
-            p.smoothing_constant_s_per_m = c;
-            run_extreme<SmoothFriction<SmoothingLaw::rational>>(p, a_u, tally);
-          }
-        }
-      }
-    }
-  }
+  test::ExtremeTally tally;
+  test::for_each_extreme_scene(32.768, 1.0, [&](const OscillatorParams& p,
+                                                const std::vector<double>& a_u, auto law) {
+    run_extreme<typename decltype(law)::type>(p, a_u, tally);
+  });
   CHECK_TEXT(tally.failures == 0, StringFromFormat("%d failing scenes:%s", tally.failures,
                                                    tally.listed.asCharString()).asCharString());
   CHECK(tally.accepted > 100);

@@ -2,6 +2,8 @@
 // simulate --scalar fixed and the ECU node).
 #pragma once
 
+#include <utility>
+
 #include "stickslip/core/fixed_point.hpp"
 #include "stickslip/core/params.hpp"
 #include "stickslip/friction/laws.hpp"
@@ -9,30 +11,39 @@
 
 namespace stickslip::host {
 
-// The oscillators fixed point offers (no transcendental functions); any other model goes to the
-// stick-slip oscillator, whose configure() refuses it by name.
-template <typename Fn>
-inline decltype(auto) with_fixed_oscillator(const OscillatorParams& params, Fn&& fn) {
+// The laws fixed point offers (no transcendental functions), as Seat<Law>: any other model goes
+// to the stick-slip one, whose configure() refuses it by name.
+template <template <typename> class Seat, typename Fn>
+inline decltype(auto) with_fixed_law(const OscillatorParams& params, Fn&& fn) {
   switch (params.model) {
     case FrictionModel::linear: {
-      Oscillator<Fixed, NoFriction> oscillator;
-      return fn(oscillator);
+      Seat<NoFriction> seat;
+      return fn(seat);
     }
     case FrictionModel::signum: {
-      Oscillator<Fixed, SignumFriction> oscillator;
-      return fn(oscillator);
+      Seat<SignumFriction> seat;
+      return fn(seat);
     }
     case FrictionModel::smooth: {
-      Oscillator<Fixed, SmoothFriction<SmoothingLaw::rational>> oscillator;
-      return fn(oscillator);
+      Seat<SmoothFriction<SmoothingLaw::rational>> seat;
+      return fn(seat);
     }
     case FrictionModel::stick_slip:
     case FrictionModel::stribeck:
     default: {
-      Oscillator<Fixed, CoulombStickSlip> oscillator;
-      return fn(oscillator);
+      Seat<CoulombStickSlip> seat;
+      return fn(seat);
     }
   }
+}
+
+template <typename Law>
+using FixedSeat = Oscillator<Fixed, Law>;
+
+// Q23.40 (simulate --scalar fixed and the ECU node).
+template <typename Fn>
+inline decltype(auto) with_fixed_oscillator(const OscillatorParams& params, Fn&& fn) {
+  return with_fixed_law<FixedSeat>(params, std::forward<Fn>(fn));
 }
 
 }  // namespace stickslip::host

@@ -58,6 +58,20 @@ int repetitions_for(const SimulationSetup& setup, std::size_t count) {
   return setup.repetitions > 0 ? setup.repetitions : (count - 1 > kManySteps ? 3 : 5);
 }
 
+// The figures a timed run adds to summarise_run()'s: dt, K (which describes the scene, its
+// friction against its excitation, whichever model runs it), the median time per sample.
+void add_run_figures(SimulationSummary& summary, const SimulationSetup& setup,
+                     std::vector<double>& seconds, std::size_t count) {
+  const auto repetitions = static_cast<int>(seconds.size());
+  std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
+  summary.dt_s = setup.params.dt_s;
+  summary.den_hartog_k =
+      den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
+  summary.ns_per_sample =
+      seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
+  summary.repetitions = repetitions;
+}
+
 // `--integrator reference`: solve_reference() timed like the core's loop (median of the runs),
 // its trace moved into `trace`, the statistics from the trace.
 SimulationSummary simulate_reference(const SimulationSetup& setup, const std::vector<double>& a_u,
@@ -179,16 +193,9 @@ SimulationSummary run_fixed_point(const SimulationSetup& setup, const std::vecto
     seconds.push_back(std::chrono::duration<double>(stop - start).count());
     saturated_steps = oscillator.saturated_steps() + (start_saturated ? 1u : 0u);
   }
-  std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
-
   SimulationSummary summary;
   summarise_run(summary, statistics, oscillator, events);
-  summary.dt_s = setup.params.dt_s;
-  summary.den_hartog_k =
-      den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
-  summary.ns_per_sample =
-      seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
-  summary.repetitions = repetitions;
+  add_run_figures(summary, setup, seconds, count);
   summary.saturated_steps = saturated_steps;
   return summary;
 }
@@ -285,17 +292,9 @@ SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vecto
       const auto stop = std::chrono::steady_clock::now();
       seconds.push_back(std::chrono::duration<double>(stop - start).count());
     }
-    std::nth_element(seconds.begin(), seconds.begin() + repetitions / 2, seconds.end());
-
     SimulationSummary summary;
     summarise_run(summary, statistics, oscillator, events);
-    summary.dt_s = setup.params.dt_s;
-    // K describes the scene (its friction against its excitation), whichever model runs it.
-    summary.den_hartog_k =
-        den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, summary.rms_u);
-    summary.ns_per_sample =
-        seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
-    summary.repetitions = repetitions;
+    add_run_figures(summary, setup, seconds, count);
     return summary;
   });
 }

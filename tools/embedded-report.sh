@@ -199,8 +199,8 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
 w("")
 w("The static figure sums the frames (push, vpush and `sub sp`) along the deepest call chain "
   "from `stickslip_node_on_frame`; QEMU's figure is the deepest word written below the "
-  "interrupt handler's caller on a painted stack (it includes `CAN0_IRQHandler`'s frame with its "
-  "80-byte `can::Frame`). Target for the Cortex-M0+: <= 256 B: "
+  "interrupt handler's caller on a painted stack (it includes `CAN0_IRQHandler`'s own frame; "
+  "its 80-byte `can::Frame` buffer is static). Target for the Cortex-M0+: <= 256 B: "
   f"**{'met' if graphs['cortex-m0plus'][0]['stack_bytes'] <= 256 else 'missed'}**.")
 w("")
 for preset in ("cortex-m0plus", "cortex-m4f"):

@@ -54,11 +54,11 @@ expect_at_least() {
 # Sockets bound to $iface, as the kernel lists them (to start senders only once receivers listen).
 receivers() { cat /proc/net/can/rcvlist_* 2>/dev/null | grep -c " $iface " || true; }
 wait_for_receivers_above() {
-  for _ in $(seq 1 200); do
+  for _ in $(seq 1 600); do
     [ "$(receivers)" -gt "$1" ] && { sleep 0.2; return 0; }
     sleep 0.05
   done
-  echo "  no new receiver on $iface after 10 s"; return 1
+  echo "  no new receiver on $iface after 30 s"; return 1
 }
 # No frame refused or missing (bus silence before the first frame is counted, and allowed).
 expect_clean() {
@@ -333,7 +333,16 @@ ecu_load_faults() {
   running() { [ -e "$out/play.done" ] && { echo "  the stream ended too early (guest too slow?)"; return 1; }; return 0; }
   rm -f "$out/play.done"
   renice -15 -p $$ >/dev/null 2>&1
-  event "stream started ($total frames at ${load_speed}x: ${stream_s} s)"
+  # The kill must hit a node while the stream runs: wait until the capture shows its first frames
+  # (a slow guest, or an ASan build, may take seconds to start the player).
+  streamed() { grep -q " $input_id#" "$out"/load-capture/candump-*.log 2>/dev/null; }
+  for _ in $(seq 1 1500); do
+    streamed && break
+    [ -e "$out/play.done" ] && break
+    sleep 0.02
+  done
+  streamed || { echo "  no frame of the stream on the bus within 30 s"; return 1; }
+  event "stream started ($total frames at ${load_speed}x: ${stream_s} s) and on the bus"
   sleep 0.5
   running || return 1
   kill -KILL "$node1_pid"; wait "$node1" 2>/dev/null

@@ -10,6 +10,7 @@
 #include "CppUTest/TestHarness.h"
 #include "oracles.hpp"
 #include "stickslip/core/params.hpp"
+#include "stickslip/core/status.hpp"
 #include "stickslip/friction/laws.hpp"
 
 namespace stickslip::test {
@@ -40,6 +41,34 @@ inline SimpleString describe_scene(const OscillatorParams& p) {
                           smoothing_name(p.smoothing), p.smoothing_constant_s_per_m,
                           integrator_name(p.integrator), p.kinetic_friction_n, p.damping_ns_per_m,
                           p.dt_s);
+}
+
+// One scene of the grid: refused by name, or run with no saturation, |x_r| <= bound_m and the
+// stuck fraction in [0, 1]. `seat` is configured here; model(seat) is its Oscillator (for reset
+// and the saturation count), input(seat, a_u) and metres(seat, x_r) the format's conversions.
+template <typename Seat, typename Model, typename Input, typename Metres>
+void run_extreme(Seat& seat, const OscillatorParams& p, const std::vector<double>& a_u,
+                 double bound_m, ExtremeTally& tally, Model model, Input input, Metres metres) {
+  const ConfigResult result = seat.configure(p);
+  const SimpleString what = describe_scene(p);
+  if (!result.ok()) {
+    ++tally.refused;
+    if (!names_a_fixed_point_parameter(result.message.c_str()))
+      tally.fail(what + ": refusal names no parameter: " + result.message.c_str());
+    return;
+  }
+  ++tally.accepted;
+  using Scalar = typename Seat::Scalar;
+  model(seat).reset(Scalar(0), Scalar(0), input(seat, a_u[0]));
+  bool bounded = true;
+  for (std::size_t n = 1; n < a_u.size(); ++n) {
+    const auto out = seat.step(input(seat, a_u[n]));
+    if (!(std::fabs(metres(seat, out.x_r_m)) <= bound_m)) bounded = false;
+    const double stuck = out.stuck_fraction.to_double();
+    if (stuck < 0.0 || stuck > 1.0) bounded = false;
+  }
+  if (model(seat).saturated_steps() != 0) tally.fail(what + ": saturated");
+  if (!bounded) tally.fail(what + ": |x_r| beyond its bound or stuck fraction outside [0, 1]");
 }
 
 template <typename Law>

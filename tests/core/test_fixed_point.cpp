@@ -302,34 +302,6 @@ TEST(FixedPointOscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuantity) {
   CHECK(seat.configure(p).ok());
 }
 
-namespace {
-
-template <typename Law>
-void run_extreme(const OscillatorParams& p, const std::vector<double>& a_u,
-                 test::ExtremeTally& tally) {
-  Oscillator<Fixed, Law> seat;
-  const ConfigResult result = seat.configure(p);
-  const SimpleString what = test::describe_scene(p);
-  if (!result.ok()) {
-    ++tally.refused;
-    if (!test::names_a_fixed_point_parameter(result.message.c_str()))
-      tally.fail(what + ": refusal names no parameter: " + result.message.c_str());
-    return;
-  }
-  ++tally.accepted;
-  seat.reset(Fixed(0), Fixed(0), Fixed(a_u[0]));
-  bool bounded = true;
-  for (std::size_t n = 1; n < a_u.size(); ++n) {
-    const auto out = seat.step(Fixed(a_u[n]));
-    if (!(ScalarTraits<Fixed>::abs(out.x_r_m) <= Fixed(1))) bounded = false;
-    if (out.stuck_fraction < Fixed(0) || out.stuck_fraction > Fixed(1)) bounded = false;
-  }
-  if (seat.saturated_steps() != 0) tally.fail(what + ": saturated");
-  if (!bounded) tally.fail(what + ": |x_r| beyond 1 m or stuck fraction outside [0, 1]");
-}
-
-}  // namespace
-
 // The extremes of the Foundation grid (test::for_each_extreme_scene) with the default ranges:
 // refused by name, or run without saturation and bounded (the fixed-point form of "no
 // NaN-equivalent garbage").
@@ -337,7 +309,10 @@ TEST(FixedPointOscillator, ExtremesAreRefusedByNameOrRunWithoutSaturation) {
   test::ExtremeTally tally;
   test::for_each_extreme_scene(50.0, 1.0, [&](const OscillatorParams& p,
                                               const std::vector<double>& a_u, auto law) {
-    run_extreme<typename decltype(law)::type>(p, a_u, tally);
+    Oscillator<Fixed, typename decltype(law)::type> seat;
+    test::run_extreme(
+        seat, p, a_u, 1.0, tally, [](auto& s) -> auto& { return s; },
+        [](auto&, double a) { return Fixed(a); }, [](auto&, Fixed x) { return x.to_double(); });
   });
   CHECK_TEXT(tally.failures == 0, StringFromFormat("%d failing scenes:%s", tally.failures,
                                                    tally.listed.asCharString()).asCharString());

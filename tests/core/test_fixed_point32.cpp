@@ -342,41 +342,17 @@ TEST(ScaledFixedPoint32Oscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuant
   CHECK_TEXT(contains(result.message.c_str(), "displacement_range_m"), result.message.c_str());
 }
 
-namespace {
-
-template <typename Law>
-void run_extreme(const OscillatorParams& p, const std::vector<double>& a_u,
-                 test::ExtremeTally& tally) {
-  ScaledOscillator<Fixed32, Law> seat;
-  const ConfigResult result = seat.configure(p);
-  const SimpleString what = test::describe_scene(p);
-  if (!result.ok()) {
-    ++tally.refused;
-    if (!test::names_a_fixed_point_parameter(result.message.c_str()))
-      tally.fail(what + ": refusal names no parameter: " + result.message.c_str());
-    return;
-  }
-  ++tally.accepted;
-  seat.oscillator().reset(Fixed32(0), Fixed32(0), seat.acceleration(a_u[0]));
-  bool bounded = true;
-  for (std::size_t n = 1; n < a_u.size(); ++n) {
-    const auto out = seat.step(seat.acceleration(a_u[n]));
-    if (!(std::fabs(seat.to_si_displacement(out.x_r_m)) <= p.displacement_range_m)) bounded = false;
-    if (out.stuck_fraction < Fixed32(0) || out.stuck_fraction > Fixed32(1)) bounded = false;
-  }
-  if (seat.oscillator().saturated_steps() != 0) tally.fail(what + ": saturated");
-  if (!bounded) tally.fail(what + ": |x_r| beyond its range or stuck fraction outside [0, 1]");
-}
-
-}  // namespace
-
 // The extremes of the Foundation grid (test::for_each_extreme_scene) with the firmware's input
 // range and a 1 m stroke: refused by name, or run without saturation and bounded.
 TEST(ScaledFixedPoint32Oscillator, ExtremesAreRefusedByNameOrRunWithoutSaturation) {
   test::ExtremeTally tally;
   test::for_each_extreme_scene(32.768, 1.0, [&](const OscillatorParams& p,
                                                 const std::vector<double>& a_u, auto law) {
-    run_extreme<typename decltype(law)::type>(p, a_u, tally);
+    ScaledOscillator<Fixed32, typename decltype(law)::type> seat;
+    test::run_extreme(
+        seat, p, a_u, p.displacement_range_m, tally, [](auto& s) -> auto& { return s.oscillator(); },
+        [](auto& s, double a) { return s.acceleration(a); },
+        [](auto& s, Fixed32 x) { return s.to_si_displacement(x); });
   });
   CHECK_TEXT(tally.failures == 0, StringFromFormat("%d failing scenes:%s", tally.failures,
                                                    tally.listed.asCharString()).asCharString());

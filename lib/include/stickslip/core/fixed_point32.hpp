@@ -134,7 +134,6 @@ class FixedPoint32 {
   constexpr FixedPoint32& operator+=(FixedPoint32 b) noexcept { return *this = *this + b; }
   constexpr FixedPoint32& operator-=(FixedPoint32 b) noexcept { return *this = *this - b; }
   constexpr FixedPoint32& operator*=(FixedPoint32 b) noexcept { return *this = *this * b; }
-
   friend constexpr bool operator==(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ == b.raw_; }
   friend constexpr bool operator!=(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ != b.raw_; }
   friend constexpr bool operator<(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ < b.raw_; }
@@ -174,30 +173,14 @@ class FixedPoint32 {
 using Fixed32 = FixedPoint32<24>;
 
 template <int F>
-struct ScalarTraits<FixedPoint32<F>> {
-  using T = FixedPoint32<F>;
-  static constexpr bool kTaylorEventSearch = false;
+struct ScalarTraits<FixedPoint32<F>> : FixedPointTraits<FixedPoint32<F>> {
   // Ticks of dt/16: in scaled units (dt = 1) the tick maps' coefficients keep >= 7 significant
   // bits in 24 fraction bits (the x -> v coupling k dt^2/m 2^-4 is the smallest), and the tick
   // count 16 fits the integer range with room. Inside a tick the crossing is interpolated.
   static constexpr int kEventTickLevel = 4;
-  static constexpr bool kTracksSaturation = true;
   // The M0+ build: the common path's whole slipping step out of line, so that its temporaries
   // are not on the stack under the event search (Oscillator::whole_step_slips()).
   static constexpr bool kCompactStack = true;
-  static bool take_saturation() noexcept { return take_fixed_point_saturation(); }
-  static T from_double(double value) noexcept { return T(value); }
-  static constexpr double to_double(T value) noexcept { return value.to_double(); }
-  static constexpr bool is_finite(T /*value*/) noexcept { return true; }
-  STICKSLIP_FIXED_INLINE static constexpr T abs(T value) noexcept { return value < T() ? -value : value; }
-  static constexpr T epsilon() noexcept { return T::from_raw(1); }
-  // n/d clamped to [0, 1] (0 when n and d differ in sign or d == 0), with no divide routine.
-  static constexpr T proportion(T n, T d) noexcept {
-    if (d == T() || (n < T()) != (d < T()) || n == T()) return T();
-    const auto un = static_cast<std::uint32_t>(n.raw() < 0 ? -n.raw() : n.raw());
-    const auto ud = static_cast<std::uint32_t>(d.raw() < 0 ? -d.raw() : d.raw());
-    return T::from_raw(static_cast<std::int32_t>(fixed_point_detail::proportion_raw<F>(un, ud)));
-  }
 };
 
 }  // namespace stickslip

@@ -27,9 +27,9 @@ void check(bool condition) {
 }
 
 std::uint64_t verdict_sum(const FaultCounters& c) {
-  return c.accepted + c.ignored_output + c.duplicate + c.out_of_order + c.bad_crc +
-         c.wrong_length + c.unknown_id + c.can_fd + c.error_frame + c.remote_frame +
-         c.alive_mismatch + c.invalid_signal;
+  return c.accepted + c.ignored_output + c.duplicate + c.out_of_order + c.bad_crc + c.wrong_length +
+         c.unknown_id + c.can_fd + c.error_frame + c.remote_frame + c.alive_mismatch +
+         c.invalid_signal;
 }
 
 Frame raw_frame(FuzzedDataProvider& in) {
@@ -95,7 +95,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const FaultCounters& c = checker.counters();
     check(c.frames == frames);
     check(verdict_sum(c) == frames);
-    if (result.verdict == FrameVerdict::accepted || result.verdict == FrameVerdict::invalid_signal) {
+    if (result.verdict == FrameVerdict::accepted ||
+        result.verdict == FrameVerdict::invalid_signal) {
       lost += result.lost_samples;
       held += result.lost_samples + (result.hold ? 1u : 0u);
       skipped += result.skipped_samples;
@@ -112,8 +113,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       check(decoded.sample_counter == result.payload.sample_counter &&
             decoded.words[0] == result.payload.words[0]);
       if (have_last) {
-        const auto d = static_cast<std::uint16_t>(result.payload.sample_counter -
-                                                  last_accepted_counter);
+        const auto d =
+            static_cast<std::uint16_t>(result.payload.sample_counter - last_accepted_counter);
         if (!result.resync) {
           check(d >= 1 && d <= config.max_gap + 1u);
           check(result.lost_samples == d - 1u && result.skipped_samples == 0);

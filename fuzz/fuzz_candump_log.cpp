@@ -1,8 +1,8 @@
 // The candump log reader on arbitrary bytes: it either returns frames that keep the format's
 // promises (ids within their width, classic frames of at most 8 bytes, FD frames of a length a
-// DLC can express, interface names of 1..15 printable ASCII characters other than space) or throws HostError
-// naming the line; nothing else. What it accepts, the writer writes back and the reader reads
-// back to the same frames (the log round trip replay and record rely on).
+// DLC can express, interface names of 1..15 printable ASCII characters other than space) or throws
+// HostError naming the line; nothing else. What it accepts, the writer writes back and the reader
+// reads back to the same frames (the log round trip replay and record rely on).
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "stickslip/host/candump_log.hpp"
 #include "stickslip/host/error.hpp"
+#include "stickslip/host/io/candump_log.hpp"
 
 #include "fuzz_support.hpp"
 
@@ -21,8 +21,6 @@ using stickslip::fuzz::check;
 
 using stickslip::host::LoggedFrame;
 namespace can = stickslip::can;
-
-
 
 // The writer renames a temporary file into place: it needs a real directory.
 const std::string& round_trip_path() {
@@ -57,7 +55,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     frames = stickslip::host::read_candump_log(path);
   } catch (const stickslip::host::HostError&) {
-    return 0;  // a refused log: the message is the product here, tests/cli checks its content
+    return 0;  // a refused log: the message is the product here, tests/host checks its content
   }
   for (const LoggedFrame& logged : frames) {
     const can::Frame& frame = logged.frame;

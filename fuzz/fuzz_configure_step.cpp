@@ -38,8 +38,10 @@ double parameter(FuzzedDataProvider& in, double typical) {
       std::memcpy(&value, &bits, sizeof value);
       return value;
     }
-    case 1: return 0.0;
-    case 2: return typical;
+    case 1:
+      return 0.0;
+    case 2:
+      return typical;
     default: {  // +-10^[-9, 10], a few bits of mantissa
       const double exponent = -9.0 + 19.0 * static_cast<double>(bits & 0xFFFFF) / 1048575.0;
       const double value = std::pow(10.0, exponent);
@@ -70,8 +72,9 @@ void run(const OscillatorParams& p, double amplitude, double frequency_hz, std::
       // The phase from the integer index (no accumulated time), reduced to one period.
       const double phase = std::fmod(phase_step * static_cast<double>(n), 6.283185307179586);
       double a = amplitude * (std::sin(phase) + noise);
-      if (inject_non_finite && (state >> 60) == 0) a = (state & 1) != 0 ? std::numeric_limits<double>::quiet_NaN()
-                                                                       : -std::numeric_limits<double>::infinity();
+      if (inject_non_finite && (state >> 60) == 0)
+        a = (state & 1) != 0 ? std::numeric_limits<double>::quiet_NaN()
+                             : -std::numeric_limits<double>::infinity();
       const auto out = seat.step(static_cast<T>(a));
       check(finite_output(out));
     }

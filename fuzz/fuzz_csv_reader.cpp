@@ -7,16 +7,14 @@
 #include <cstdlib>
 #include <string>
 
-#include "stickslip/host/csv_reader.hpp"
 #include "stickslip/host/error.hpp"
+#include "stickslip/host/io/csv_reader.hpp"
 
 #include "fuzz_support.hpp"
 
 namespace {
 
 using stickslip::fuzz::check;
-
-
 
 }  // namespace
 
@@ -32,7 +30,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     check(signal.dt_s > 0.0 && std::isfinite(signal.dt_s));
   } catch (const stickslip::host::HostError&) {
-    // A refused file: the message is the product here, its content is tested in tests/cli.
+    // A refused file: the message is the product here, its content is tested in tests/host.
   }
   return 0;
 }

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "stickslip/host/error.hpp"
-#include "stickslip/host/scene_file.hpp"
+#include "stickslip/host/io/scene_file.hpp"
 #include "stickslip/models/scene.hpp"
 
 #include "fuzz_support.hpp"
@@ -18,8 +18,6 @@
 namespace {
 
 using stickslip::fuzz::check;
-
-
 
 template <typename T>
 bool finite_output(const stickslip::StepOutput<T>& out) {
@@ -35,7 +33,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     scene = stickslip::host::read_scene_file(path);
   } catch (const stickslip::host::HostError&) {
-    return 0;  // a refused file: tests/cli checks the messages
+    return 0;  // a refused file: tests/host checks the messages
   }
   const stickslip::SceneParams params = scene.core();
   stickslip::with_scene_model<double>(params, [&](auto& model) {

@@ -220,7 +220,7 @@ $(cat k-table.md)
 ![Fig. 8](img/paper/fig8-harmonic-balance.png)
 
 \`stickslip harmonic-balance\` evaluates Den Hartog's first-harmonic solution (derivation in
-sim_host/include/stickslip/host/harmonic_balance.hpp): ((k - m w^2) X)^2 + (b w X + 4 F_fk/pi)^2
+sim_host/include/stickslip/host/run/harmonic_balance.hpp): ((k - m w^2) X)^2 + (b w X + 4 F_fk/pi)^2
 = (m A)^2, which has a non-stop solution only for K = 4 F_fk/(pi m A) < 1 (with a0u = A/sqrt(2)
 this is the K above). Against the simulated steady state (stick-slip, exact, 60 periods at
 1.5 Hz, the last quarter measured), b = 504 N s/m: error $(hb_valid_error 0.1) at K = 0.1,

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "stickslip/host/signal_generator.hpp"
+#include "stickslip/host/signals/signal_generator.hpp"
 #include "stickslip/integrators/discretisation.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/scene.hpp"

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "stickslip/friction/laws.hpp"
-#include "stickslip/host/signal_generator.hpp"
+#include "stickslip/host/signals/signal_generator.hpp"
 #include "stickslip/metrics/batch_statistics.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/running_statistics.hpp"

@@ -19,7 +19,8 @@ bool frame_is_valid(const can::Frame& frame) noexcept {
   const std::uint32_t id_mask =
       (frame.flags & can::kExtendedId) ? can::kExtendedIdMask : can::kStandardIdMask;
   if ((frame.id & ~id_mask) != 0) return false;
-  if (frame.flags & can::kFd) return frame.length <= can::kFdMaxLength && !(frame.flags & can::kRemote);
+  if (frame.flags & can::kFd)
+    return frame.length <= can::kFdMaxLength && !(frame.flags & can::kRemote);
   return frame.length <= can::kClassicMaxLength;
 }
 
@@ -165,7 +166,8 @@ std::size_t loopback_endpoints() noexcept {
   LoopbackBus& bus = LoopbackBus::instance();
   std::lock_guard<std::mutex> lock(bus.mutex);
   std::size_t count = 0;
-  for (const LoopbackEndpoint* endpoint = bus.first; endpoint != nullptr; endpoint = endpoint->next())
+  for (const LoopbackEndpoint* endpoint = bus.first; endpoint != nullptr;
+       endpoint = endpoint->next())
     ++count;
   return count;
 }

@@ -32,7 +32,8 @@ constexpr std::size_t kMaxFilters = CAN_RAW_FILTER_MAX;
 std::uint64_t realtime_now_ns() noexcept {
   timespec now{};
   ::clock_gettime(CLOCK_REALTIME, &now);
-  return static_cast<std::uint64_t>(now.tv_sec) * 1000000000u + static_cast<std::uint64_t>(now.tv_nsec);
+  return static_cast<std::uint64_t>(now.tv_sec) * 1000000000u +
+         static_cast<std::uint64_t>(now.tv_nsec);
 }
 
 std::int64_t monotonic_now_ms() noexcept {
@@ -71,7 +72,8 @@ class SocketCanTransport final : public Transport {
     if (bus_name.empty() || bus_name.size() >= IFNAMSIZ) return TransportStatus::invalid_argument;
     const int fd = open_raw_socket();
     if (fd < 0) {
-      return socket_family_missing(errno) ? TransportStatus::unsupported : TransportStatus::io_error;
+      return socket_family_missing(errno) ? TransportStatus::unsupported
+                                          : TransportStatus::io_error;
     }
     const TransportStatus status = configure(fd, bus_name);
     if (status != TransportStatus::ok) {
@@ -158,7 +160,8 @@ class SocketCanTransport final : public Transport {
     const int on = 1;
     // FD frames must be seen whole; a kernel without CAN FD (ENOPROTOOPT) cannot deliver any,
     // so the endpoint still works for classic frames.
-    if (::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on) != 0 && errno != ENOPROTOOPT) {
+    if (::setsockopt(fd, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on) != 0 &&
+        errno != ENOPROTOOPT) {
       return TransportStatus::io_error;
     }
     const can_err_mask_t every_error = CAN_ERR_MASK;
@@ -169,7 +172,8 @@ class SocketCanTransport final : public Transport {
         ::setsockopt(fd, SOL_SOCKET, SO_TIMESTAMP, &on, sizeof on) != 0) {
       return TransportStatus::io_error;
     }
-    if (::setsockopt(fd, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) != 0) return TransportStatus::io_error;
+    if (::setsockopt(fd, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) != 0)
+      return TransportStatus::io_error;
     if (options_.receive_buffer_bytes > 0 &&
         ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &options_.receive_buffer_bytes,
                      sizeof options_.receive_buffer_bytes) != 0) {
@@ -179,8 +183,9 @@ class SocketCanTransport final : public Transport {
     address.can_family = AF_CAN;
     address.can_ifindex = static_cast<int>(index);
     if (::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
-      return (errno == ENODEV || errno == ENETDOWN || errno == ENXIO) ? TransportStatus::no_such_interface
-                                                                       : TransportStatus::io_error;
+      return (errno == ENODEV || errno == ENETDOWN || errno == ENXIO)
+                 ? TransportStatus::no_such_interface
+                 : TransportStatus::io_error;
     }
     return TransportStatus::ok;
   }
@@ -196,17 +201,23 @@ class SocketCanTransport final : public Transport {
       if (written == static_cast<ssize_t>(size)) return TransportStatus::ok;
       if (written >= 0) return TransportStatus::io_error;  // a short write of a datagram
       switch (errno) {
-        case EINTR: continue;
+        case EINTR:
+          continue;
         case EAGAIN:
 #if EWOULDBLOCK != EAGAIN
         case EWOULDBLOCK:
 #endif
-        case ENOBUFS: return TransportStatus::buffer_full;
-        case EINVAL: return TransportStatus::invalid_argument;  // e.g. FD on a classic-MTU bus
-        case ENETDOWN: return TransportStatus::interface_down;
+        case ENOBUFS:
+          return TransportStatus::buffer_full;
+        case EINVAL:
+          return TransportStatus::invalid_argument;  // e.g. FD on a classic-MTU bus
+        case ENETDOWN:
+          return TransportStatus::interface_down;
         case ENODEV:
-        case ENXIO: return TransportStatus::no_such_interface;
-        default: return TransportStatus::io_error;
+        case ENXIO:
+          return TransportStatus::no_such_interface;
+        default:
+          return TransportStatus::io_error;
       }
     }
   }
@@ -236,7 +247,8 @@ class SocketCanTransport final : public Transport {
       return TransportStatus::io_error;
     }
     std::uint64_t timestamp_ns = 0;
-    for (cmsghdr* item = CMSG_FIRSTHDR(&message); item != nullptr; item = CMSG_NXTHDR(&message, item)) {
+    for (cmsghdr* item = CMSG_FIRSTHDR(&message); item != nullptr;
+         item = CMSG_NXTHDR(&message, item)) {
       if (item->cmsg_level != SOL_SOCKET) continue;
       if (item->cmsg_type == SO_TIMESTAMPNS) {
         timespec stamp{};
@@ -254,7 +266,8 @@ class SocketCanTransport final : public Transport {
         if (dropped > counters_.receive_drops) counters_.receive_drops = dropped;
       }
     }
-    if (!decode_socketcan_read(raw, static_cast<std::size_t>(bytes), (message.msg_flags & MSG_TRUNC) != 0, frame)) {
+    if (!decode_socketcan_read(raw, static_cast<std::size_t>(bytes),
+                               (message.msg_flags & MSG_TRUNC) != 0, frame)) {
       ++counters_.malformed_reads;
       return TransportStatus::io_error;
     }
@@ -275,7 +288,8 @@ bool is_fd_length(unsigned length) noexcept {
          length == 32 || length == 48 || length == 64;
 }
 
-bool decode_socketcan_read(const canfd_frame& raw, std::size_t size, bool truncated, can::Frame& frame) noexcept {
+bool decode_socketcan_read(const canfd_frame& raw, std::size_t size, bool truncated,
+                           can::Frame& frame) noexcept {
   const bool classic = size == CAN_MTU && raw.len <= CAN_MAX_DLEN;
   const bool fd = size == CANFD_MTU && is_fd_length(raw.len);
   if (truncated || (!classic && !fd)) return false;
@@ -300,12 +314,14 @@ bool decode_socketcan_read(const canfd_frame& raw, std::size_t size, bool trunca
   return true;
 }
 
-TransportStatus encode_socketcan_write(const can::Frame& frame, canfd_frame& raw, std::size_t& size) noexcept {
+TransportStatus encode_socketcan_write(const can::Frame& frame, canfd_frame& raw,
+                                       std::size_t& size) noexcept {
   if ((frame.flags & can::kErrorFrame) != 0) return TransportStatus::invalid_argument;
   const bool extended = (frame.flags & can::kExtendedId) != 0;
   const bool remote = (frame.flags & can::kRemote) != 0;
   const bool fd = (frame.flags & can::kFd) != 0;
-  if (frame.id > (extended ? can::kExtendedIdMask : can::kStandardIdMask)) return TransportStatus::invalid_argument;
+  if (frame.id > (extended ? can::kExtendedIdMask : can::kStandardIdMask))
+    return TransportStatus::invalid_argument;
   if (fd ? (remote || !is_fd_length(frame.length)) : frame.length > can::kClassicMaxLength) {
     return TransportStatus::invalid_argument;
   }
@@ -333,7 +349,9 @@ bool can_interface_is_up(const std::string& interface_name) noexcept {
   return up;
 }
 
-std::unique_ptr<Transport> make_socketcan_transport() { return make_socketcan_transport(SocketCanOptions{}); }
+std::unique_ptr<Transport> make_socketcan_transport() {
+  return make_socketcan_transport(SocketCanOptions{});
+}
 
 std::unique_ptr<Transport> make_socketcan_transport(const SocketCanOptions& options) {
   return std::make_unique<SocketCanTransport>(options);

@@ -7,15 +7,24 @@ namespace stickslip::port {
 
 const char* transport_status_name(TransportStatus status) noexcept {
   switch (status) {
-    case TransportStatus::ok: return "ok";
-    case TransportStatus::timeout: return "timeout";
-    case TransportStatus::closed: return "closed";
-    case TransportStatus::unsupported: return "unsupported";
-    case TransportStatus::no_such_interface: return "no such interface";
-    case TransportStatus::invalid_argument: return "invalid argument";
-    case TransportStatus::buffer_full: return "buffer full";
-    case TransportStatus::io_error: return "i/o error";
-    case TransportStatus::interface_down: return "interface down";
+    case TransportStatus::ok:
+      return "ok";
+    case TransportStatus::timeout:
+      return "timeout";
+    case TransportStatus::closed:
+      return "closed";
+    case TransportStatus::unsupported:
+      return "unsupported";
+    case TransportStatus::no_such_interface:
+      return "no such interface";
+    case TransportStatus::invalid_argument:
+      return "invalid argument";
+    case TransportStatus::buffer_full:
+      return "buffer full";
+    case TransportStatus::io_error:
+      return "i/o error";
+    case TransportStatus::interface_down:
+      return "interface down";
   }
   return "unknown";
 }

@@ -5,7 +5,7 @@
 // F_fs = F_fk; the 600 s lorry recording at 1 ms, seed 1, RMS 0.35 m/s^2, played in a loop).
 //
 // --path observer (the default): through the Observer as the ECU node drives it
-// (sim_host/src/ecu_node.cpp: Observer<T, law> with a 10 s window of 10 blocks, a 10 s
+// (sim_host/src/bus/ecu_node.cpp: Observer<T, law> with a 10 s window of 10 blocks, a 10 s
 // exponential window and Wk ride comfort, update(a_u) per sample after reset(a_u0), and the
 // whole-stream RunningStatistics beside it). Checks:
 //   - no NaN/Inf in any observer output: every field of every per-sample estimate; the window,
@@ -39,8 +39,8 @@
 // Prints K checkpoints (and writes them to FILE as CSV). Exit status 1 if any check fails,
 // with "soak FAILED:" and the failed checks.
 #include <algorithm>
-#include <chrono>
 #include <cfloat>
+#include <chrono>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -50,7 +50,7 @@
 #include <string>
 #include <vector>
 
-#include "stickslip/host/signal_generator.hpp"
+#include "stickslip/host/signals/signal_generator.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/iso2631_weighting.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
@@ -127,7 +127,9 @@ struct WholeStreamReference {
       in_block = 0;
     }
   }
-  double rms_ratio() const { return static_cast<double>(std::sqrt((total_x + block_x) / (total_u + block_u))); }
+  double rms_ratio() const {
+    return static_cast<double>(std::sqrt((total_x + block_x) / (total_u + block_u)));
+  }
   double stuck_share(std::uint64_t steps) const {
     return static_cast<double>((total_stuck + block_stuck) / static_cast<long double>(steps));
   }
@@ -138,16 +140,16 @@ struct WholeStreamReference {
 // v - m, the product and the sum, and the recurrence forgets old errors at the rate 1 - g.
 struct ExponentialReference {
   long double mean = 0;
-  double bound = 0;     // on |m_T - m|, first order in u
-  double max_mean = 0;  // for MTVV: the largest m so far ...
-  double max_bound = 0; // ... and the largest bound so far (|max m_T - max m| <= max bound)
+  double bound = 0;      // on |m_T - m|, first order in u
+  double max_mean = 0;   // for MTVV: the largest m so far ...
+  double max_bound = 0;  // ... and the largest bound so far (|max m_T - max m| <= max bound)
 
   void add(long double value, long double gain, double u) {
     const double previous = static_cast<double>(mean);
     mean += gain * (value - mean);
     const double g = static_cast<double>(gain), v = std::fabs(static_cast<double>(value));
-    bound = (1.0 - g) * bound +
-            u * (std::fabs(static_cast<double>(mean)) + 3.0 * g * v + 2.0 * g * std::fabs(previous));
+    bound = (1.0 - g) * bound + u * (std::fabs(static_cast<double>(mean)) + 3.0 * g * v +
+                                     2.0 * g * std::fabs(previous));
     max_mean = std::fmax(max_mean, static_cast<double>(mean));
     max_bound = std::fmax(max_bound, bound);
   }
@@ -176,8 +178,10 @@ class Report {
     if (options_.csv == nullptr) return true;
     csv_ = std::fopen(options_.csv, "w");
     if (csv_ == nullptr) return false;
-    std::fprintf(csv_, "samples,T_ax,T_ax_blockwise,p,p_blockwise,rel_diff_T_ax,rel_diff_p,%sns_per_sample\n",
-                 observer ? "window_worst_over_tol,exp_worst_over_tol,comfort_worst_over_tol," : "");
+    std::fprintf(
+        csv_,
+        "samples,T_ax,T_ax_blockwise,p,p_blockwise,rel_diff_T_ax,rel_diff_p,%sns_per_sample\n",
+        observer ? "window_worst_over_tol,exp_worst_over_tol,comfort_worst_over_tol," : "");
     return true;
   }
   void header(bool observer) const {
@@ -195,7 +199,8 @@ class Report {
     if (csv_ == nullptr) return;
     std::fprintf(csv_, "%" PRIu64 ",%.17g,%.17g,%.17g,%.17g,%.3e,%.3e,", c.samples, c.t_ax,
                  c.t_ax_block, c.p, c.p_block, c.d_t, c.d_p);
-    if (observer) std::fprintf(csv_, "%.3e,%.3e,%.3e,", c.window_worst, c.exp_worst, c.comfort_worst);
+    if (observer)
+      std::fprintf(csv_, "%.3e,%.3e,%.3e,", c.window_worst, c.exp_worst, c.comfort_worst);
     std::fprintf(csv_, "%.3f\n", c.ns);
   }
   ~Report() {
@@ -205,7 +210,8 @@ class Report {
   void fail(const char* what, std::uint64_t n, double value, double limit) {
     ++failures_;
     if (failures_ <= 5)
-      std::printf("soak check failed at sample %" PRIu64 ": %s (%.6g vs %.6g)\n", n, what, value, limit);
+      std::printf("soak check failed at sample %" PRIu64 ": %s (%.6g vs %.6g)\n", n, what, value,
+                  limit);
     if (first_.empty()) first_ = what;
   }
   std::uint64_t failures() const { return failures_; }
@@ -265,7 +271,8 @@ int soak_oscillator(const Options& o) {
   const T a_x0 = seat.current().a_x_m_per_s2;
   stats.add_sample(input[0], a_x0);
   WholeStreamReference whole;
-  whole.add(static_cast<long double>(input[0]) * input[0], static_cast<long double>(a_x0) * a_x0, 0);
+  whole.add(static_cast<long double>(input[0]) * input[0], static_cast<long double>(a_x0) * a_x0,
+            0);
   std::uint64_t non_finite = 0;
   const std::uint64_t every = o.samples / static_cast<std::uint64_t>(o.checkpoints);
   std::uint64_t next_checkpoint = every;
@@ -284,17 +291,19 @@ int soak_oscillator(const Options& o) {
               static_cast<long double>(out.a_x_m_per_s2) * out.a_x_m_per_s2, out.stuck_fraction);
     if (n + 1 == next_checkpoint || n + 1 == o.samples) {
       next_checkpoint += every;
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       report.row(whole_stream_checkpoint(n, stats, whole, seconds, tolerance, report), false);
     }
   }
   const bool counts = stats.samples() == o.samples && stats.steps() == o.samples - 1;
-  std::printf("soak oscillator %s: %" PRIu64 " samples (%.0f s of ride), non-finite outputs %" PRIu64
-              ", rejected inputs %" PRIu64 ", state resets %" PRIu64 ", event budget hits %" PRIu64
-              ", sample count %s, statistics vs blockwise %s (tolerance %.1e)\n",
-              sizeof(T) == 4 ? "float" : "double", o.samples, static_cast<double>(o.samples) * p.dt_s,
-              non_finite, seat.rejected_inputs(), seat.state_resets(), seat.event_budget_exhausted(),
-              counts ? "exact" : "WRONG", report.failures() == 0 ? "agree" : "DIFFER", tolerance);
+  std::printf(
+      "soak oscillator %s: %" PRIu64 " samples (%.0f s of ride), non-finite outputs %" PRIu64
+      ", rejected inputs %" PRIu64 ", state resets %" PRIu64 ", event budget hits %" PRIu64
+      ", sample count %s, statistics vs blockwise %s (tolerance %.1e)\n",
+      sizeof(T) == 4 ? "float" : "double", o.samples, static_cast<double>(o.samples) * p.dt_s,
+      non_finite, seat.rejected_inputs(), seat.state_resets(), seat.event_budget_exhausted(),
+      counts ? "exact" : "WRONG", report.failures() == 0 ? "agree" : "DIFFER", tolerance);
   return report.failures() == 0 && counts && non_finite == 0 && seat.state_resets() == 0 &&
                  seat.rejected_inputs() == 0 && seat.event_budget_exhausted() == 0
              ? 0
@@ -311,7 +320,7 @@ int soak_observer(const Options& o) {
   const std::uint64_t period = input.size();
   const double dt = scene.params.dt_s;
 
-  // As SeatModelFor (sim_host/src/ecu_node.cpp) configures it.
+  // As SeatModelFor (sim_host/src/bus/ecu_node.cpp) configures it.
   ObserverParams op;
   op.model = scene.params;
   op.window_s = std::fmax(10.0, 10.0 * dt);
@@ -338,9 +347,10 @@ int soak_observer(const Options& o) {
     std::fprintf(stderr, "soak: cannot write %s\n", o.csv);
     return 2;
   }
-  std::printf("through the observer: window %u blocks of %u samples, exponential tau %.3g s, %s comfort\n",
-              unsigned(kBlocks), per_block, op.exponential_time_s,
-              op.weighting == ComfortWeighting::wk ? "Wk" : "Wd");
+  std::printf(
+      "through the observer: window %u blocks of %u samples, exponential tau %.3g s, %s comfort\n",
+      unsigned(kBlocks), per_block, op.exponential_time_s,
+      op.weighting == ComfortWeighting::wk ? "Wk" : "Wd");
   report.header(true);
 
   const double eps = static_cast<double>(std::numeric_limits<T>::epsilon());
@@ -404,7 +414,8 @@ int soak_observer(const Options& o) {
     stats.add_sample(a_u, out.a_x_m_per_s2);
     stats.add_step(out.stuck_fraction);
     T checked_x_r = out.x_r_m;
-    if (o.fault == Fault::nan && n == o.samples / 2) checked_x_r = std::numeric_limits<T>::quiet_NaN();
+    if (o.fault == Fault::nan && n == o.samples / 2)
+      checked_x_r = std::numeric_limits<T>::quiet_NaN();
     if (!std::isfinite(checked_x_r) || !std::isfinite(out.v_r_m_per_s) ||
         !std::isfinite(out.a_x_m_per_s2) || !std::isfinite(out.friction_n) ||
         !std::isfinite(out.stuck_time_s) || !std::isfinite(out.stuck_fraction) ||
@@ -446,19 +457,33 @@ int soak_observer(const Options& o) {
       const ObserverSummary s = observer.summary();
       ++block_checks;
       // Time keeping: this block ended exactly here, and the window covers exactly its samples.
-      const std::uint32_t expected = static_cast<std::uint32_t>(std::min<std::uint64_t>(blocks_done, kBlocks)) * per_block;
+      const std::uint32_t expected =
+          static_cast<std::uint32_t>(std::min<std::uint64_t>(blocks_done, kBlocks)) * per_block;
       if (w.samples != expected || s.window_s != double(expected) * dt || observer.samples() != n ||
           s.window_full != (blocks_done >= kBlocks))
         report.fail("window block boundary / sample count", n, s.window_s, double(expected) * dt);
       // Finiteness of every published figure.
       const RideComfort<T>& comfort = observer.comfort();
-      const double figures[] = {s.rms_u_m_per_s2, s.rms_x_m_per_s2, s.transmissibility,
-                                s.stick_probability, s.den_hartog_k, s.window_s,
-                                s.exp_rms_u_m_per_s2, s.exp_rms_x_m_per_s2, s.exp_transmissibility,
-                                s.exp_stick_probability, s.exp_den_hartog_k, s.residual_rms_m_per_s2,
-                                comfort.floor_weighted_rms(), comfort.seat_weighted_rms(),
-                                comfort.seat_ratio(), comfort.seat_vdv(), comfort.floor_vdv(),
-                                comfort.seat_running_rms(), comfort.seat_mtvv(), comfort.seat_peak(),
+      const double figures[] = {s.rms_u_m_per_s2,
+                                s.rms_x_m_per_s2,
+                                s.transmissibility,
+                                s.stick_probability,
+                                s.den_hartog_k,
+                                s.window_s,
+                                s.exp_rms_u_m_per_s2,
+                                s.exp_rms_x_m_per_s2,
+                                s.exp_transmissibility,
+                                s.exp_stick_probability,
+                                s.exp_den_hartog_k,
+                                s.residual_rms_m_per_s2,
+                                comfort.floor_weighted_rms(),
+                                comfort.seat_weighted_rms(),
+                                comfort.seat_ratio(),
+                                comfort.seat_vdv(),
+                                comfort.floor_vdv(),
+                                comfort.seat_running_rms(),
+                                comfort.seat_mtvv(),
+                                comfort.seat_peak(),
                                 comfort.seat_crest_factor()};
       if (!std::all_of(std::begin(figures), std::end(figures), finite))
         report.fail("non-finite observer figure", n, 0, 0);
@@ -467,12 +492,13 @@ int soak_observer(const Options& o) {
       const double rms_u = static_cast<double>(std::sqrt(w.u_sq / count));
       const double rms_x = static_cast<double>(std::sqrt(w.x_sq / count));
       const double p_window = static_cast<double>(w.stuck / count);
-      const double window_d[] = {relative(s.rms_u_m_per_s2, rms_u), relative(s.rms_x_m_per_s2, rms_x),
-                                 relative(s.transmissibility, rms_x / rms_u),
-                                 relative(s.stick_probability, p_window)};
+      const double window_d[] = {
+          relative(s.rms_u_m_per_s2, rms_u), relative(s.rms_x_m_per_s2, rms_x),
+          relative(s.transmissibility, rms_x / rms_u), relative(s.stick_probability, p_window)};
       for (double d : window_d) {
         window_worst = std::fmax(window_worst, against(d, window_tolerance));
-        if (!(d <= window_tolerance)) report.fail("window statistics vs blockwise", n, d, window_tolerance);
+        if (!(d <= window_tolerance))
+          report.fail("window statistics vs blockwise", n, d, window_tolerance);
       }
       if (s.stick_events != w.stick_events || s.slip_events != w.slip_events)
         report.fail("window stick/slip events vs recount", n, s.stick_events, w.stick_events);
@@ -480,7 +506,8 @@ int soak_observer(const Options& o) {
         regime.update(den_hartog_factor(op.model.kinetic_friction_n, op.model.mass_kg, rms_u));
       if (s.regime != regime.regime() || s.regime_known != regime.known() ||
           s.regime_changes != regime.changes())
-        report.fail("regime vs a tracker fed the recomputed K", n, s.regime_changes, regime.changes());
+        report.fail("regime vs a tracker fed the recomputed K", n, s.regime_changes,
+                    regime.changes());
       // Exponential window and running RMS: mean squares against the long-double recurrence.
       // (The observed figure is a root read back and squared in double: a few ulp of double.)
       const auto check_recurrence = [&](const char* what, double& worst, double observed_mean,
@@ -490,10 +517,12 @@ int soak_observer(const Options& o) {
         worst = std::fmax(worst, ratio);
         if (!(ratio <= 1.0)) report.fail(what, n, observed_mean, mean);
       };
-      check_recurrence("exponential mean square a_u", exp_worst, s.exp_rms_u_m_per_s2 * s.exp_rms_u_m_per_s2,
-                       static_cast<double>(exp_u.mean), exp_u.bound);
-      check_recurrence("exponential mean square a_x", exp_worst, s.exp_rms_x_m_per_s2 * s.exp_rms_x_m_per_s2,
-                       static_cast<double>(exp_x.mean), exp_x.bound);
+      check_recurrence("exponential mean square a_u", exp_worst,
+                       s.exp_rms_u_m_per_s2 * s.exp_rms_u_m_per_s2, static_cast<double>(exp_u.mean),
+                       exp_u.bound);
+      check_recurrence("exponential mean square a_x", exp_worst,
+                       s.exp_rms_x_m_per_s2 * s.exp_rms_x_m_per_s2, static_cast<double>(exp_x.mean),
+                       exp_x.bound);
       check_recurrence("exponential stuck share", exp_worst, s.exp_stick_probability,
                        static_cast<double>(exp_stuck.mean), exp_stuck.bound);
       check_recurrence("comfort running mean square", comfort_worst,
@@ -508,22 +537,24 @@ int soak_observer(const Options& o) {
                    static_cast<double>(std::sqrt((floor_sq.total_u + floor_sq.block_u) / total))),
           relative(comfort.seat_weighted_rms(),
                    static_cast<double>(std::sqrt((seat_sq.total_u + seat_sq.block_u) / total))),
-          relative(comfort.floor_vdv(),
-                   static_cast<double>(std::sqrt(std::sqrt((fourth.total_u + fourth.block_u) * comfort_dt)))),
-          relative(comfort.seat_vdv(),
-                   static_cast<double>(std::sqrt(std::sqrt((fourth.total_x + fourth.block_x) * comfort_dt))))};
+          relative(comfort.floor_vdv(), static_cast<double>(std::sqrt(std::sqrt(
+                                            (fourth.total_u + fourth.block_u) * comfort_dt)))),
+          relative(comfort.seat_vdv(), static_cast<double>(std::sqrt(std::sqrt(
+                                           (fourth.total_x + fourth.block_x) * comfort_dt))))};
       for (double d : comfort_d) {
         comfort_worst = std::fmax(comfort_worst, against(d, whole_tolerance));
-        if (!(d <= whole_tolerance)) report.fail("ride comfort vs blockwise", n, d, whole_tolerance);
+        if (!(d <= whole_tolerance))
+          report.fail("ride comfort vs blockwise", n, d, whole_tolerance);
       }
       if (comfort.seat_peak() != static_cast<double>(seat_peak))
-        report.fail("comfort peak vs the recomputation's (same weighted samples)", n, comfort.seat_peak(),
-                    static_cast<double>(seat_peak));
+        report.fail("comfort peak vs the recomputation's (same weighted samples)", n,
+                    comfort.seat_peak(), static_cast<double>(seat_peak));
     }
 
     if (n + 1 == next_checkpoint || n + 1 == o.samples) {
       next_checkpoint += every;
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       Checkpoint c = whole_stream_checkpoint(n, stats, whole, seconds, whole_tolerance, report);
       c.window_worst = window_worst;
       c.exp_worst = exp_worst;
@@ -537,8 +568,9 @@ int soak_observer(const Options& o) {
   const std::uint64_t updates = o.samples - 1;
   const bool counts = observer.samples() == updates && observer.comfort().samples() == o.samples &&
                       stats.samples() == o.samples && stats.steps() == updates;
-  if (!counts) report.fail("sample counts (observer, comfort, statistics) vs the integer count", updates,
-                           static_cast<double>(observer.samples()), static_cast<double>(updates));
+  if (!counts)
+    report.fail("sample counts (observer, comfort, statistics) vs the integer count", updates,
+                static_cast<double>(observer.samples()), static_cast<double>(updates));
   // t = n dt is one rounding of the exact product, however long the run: within half an ulp.
   const double t_end = static_cast<double>(updates) * dt;
   const long double t_exact = static_cast<long double>(updates) * static_cast<long double>(dt);
@@ -548,28 +580,34 @@ int soak_observer(const Options& o) {
                 static_cast<double>(t_exact));
   const Oscillator<T, Law>& seat = observer.model();
   if (seat.rejected_inputs() != 0 || seat.state_resets() != 0 || seat.event_budget_exhausted() != 0)
-    report.fail("rejected inputs / state resets / event budget hits", updates,
-                double(seat.rejected_inputs() + seat.state_resets() + seat.event_budget_exhausted()), 0);
-  if (block_checks != updates / per_block) report.fail("block checks", updates, double(block_checks), 0);
+    report.fail(
+        "rejected inputs / state resets / event budget hits", updates,
+        double(seat.rejected_inputs() + seat.state_resets() + seat.event_budget_exhausted()), 0);
+  if (block_checks != updates / per_block)
+    report.fail("block checks", updates, double(block_checks), 0);
 
   const ObserverSummary s = observer.summary();
-  std::printf("soak observer %s: %" PRIu64 " samples (t = n dt = %.3f s of ride, %.1e s from the "
-              "exact product; accumulated t += dt would read %.3f s in double, %.3f s in float), "
-              "non-finite outputs %" PRIu64 ", rejected inputs %" PRIu64 ", state resets %" PRIu64
-              ", event budget hits %" PRIu64 ", sample counts %s, %" PRIu64 " window blocks checked\n",
-              sizeof(T) == 4 ? "float" : "double", o.samples, t_end, t_error, t_double_sum,
-              static_cast<double>(t_float_sum), non_finite,
-              seat.rejected_inputs(), seat.state_resets(), seat.event_budget_exhausted(),
-              counts ? "exact" : "WRONG", block_checks);
-  std::printf("  last window: T_ax %.9f p %.7f K %.4f regime %s (%u changes); exponential T_ax %.9f; "
-              "comfort: seat Wk RMS %.6f m/s^2, SEAT %.6f, VDV %.4f m/s^1.75, MTVV %.6f m/s^2\n",
-              s.transmissibility, s.stick_probability, s.den_hartog_k, regime_name(s.regime),
-              s.regime_changes, s.exp_transmissibility, observer.comfort().seat_weighted_rms(),
-              observer.comfort().seat_ratio(), observer.comfort().seat_vdv(), observer.comfort().seat_mtvv());
-  std::printf("  worst difference / tolerance: window %.2e (tolerance %.2e relative), exponential and "
-              "running RMS %.2e (of twice the running bound), comfort %.2e and whole stream %.2e "
-              "(tolerance %.2e relative)\n",
-              window_worst, window_tolerance, exp_worst, comfort_worst, whole_worst, whole_tolerance);
+  std::printf(
+      "soak observer %s: %" PRIu64
+      " samples (t = n dt = %.3f s of ride, %.1e s from the "
+      "exact product; accumulated t += dt would read %.3f s in double, %.3f s in float), "
+      "non-finite outputs %" PRIu64 ", rejected inputs %" PRIu64 ", state resets %" PRIu64
+      ", event budget hits %" PRIu64 ", sample counts %s, %" PRIu64 " window blocks checked\n",
+      sizeof(T) == 4 ? "float" : "double", o.samples, t_end, t_error, t_double_sum,
+      static_cast<double>(t_float_sum), non_finite, seat.rejected_inputs(), seat.state_resets(),
+      seat.event_budget_exhausted(), counts ? "exact" : "WRONG", block_checks);
+  std::printf(
+      "  last window: T_ax %.9f p %.7f K %.4f regime %s (%u changes); exponential T_ax %.9f; "
+      "comfort: seat Wk RMS %.6f m/s^2, SEAT %.6f, VDV %.4f m/s^1.75, MTVV %.6f m/s^2\n",
+      s.transmissibility, s.stick_probability, s.den_hartog_k, regime_name(s.regime),
+      s.regime_changes, s.exp_transmissibility, observer.comfort().seat_weighted_rms(),
+      observer.comfort().seat_ratio(), observer.comfort().seat_vdv(),
+      observer.comfort().seat_mtvv());
+  std::printf(
+      "  worst difference / tolerance: window %.2e (tolerance %.2e relative), exponential and "
+      "running RMS %.2e (of twice the running bound), comfort %.2e and whole stream %.2e "
+      "(tolerance %.2e relative)\n",
+      window_worst, window_tolerance, exp_worst, comfort_worst, whole_worst, whole_tolerance);
   if (report.failures() > 0) {
     std::printf("soak FAILED: %" PRIu64 " failed checks, the first: %s\n", report.failures(),
                 report.first().c_str());
@@ -603,18 +641,24 @@ int main(int argc, char** argv) {
     } else if (option == "--csv") {
       o.csv = argv[i + 1];
     } else if (option == "--fault") {
-      if (value == "none") o.fault = Fault::none;
-      else if (value == "nan") o.fault = Fault::nan;
-      else if (value == "count") o.fault = Fault::count;
-      else if (value == "stats") o.fault = Fault::stats;
-      else usage = true;
+      if (value == "none")
+        o.fault = Fault::none;
+      else if (value == "nan")
+        o.fault = Fault::nan;
+      else if (value == "count")
+        o.fault = Fault::count;
+      else if (value == "stats")
+        o.fault = Fault::stats;
+      else
+        usage = true;
     } else {
       usage = true;
     }
     ++i;
   }
   if (usage || o.samples < 100000 || o.checkpoints < 1 ||
-      static_cast<std::uint64_t>(o.checkpoints) > o.samples || (!o.observer && o.fault != Fault::none)) {
+      static_cast<std::uint64_t>(o.checkpoints) > o.samples ||
+      (!o.observer && o.fault != Fault::none)) {
     std::fprintf(stderr,
                  "usage: %s [--samples N>=1e5] [--type float|double] [--path observer|oscillator] "
                  "[--checkpoints K] [--csv FILE] [--fault none|nan|count|stats (observer path)]\n",

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <map>
 
-#include "stickslip/host/signal_generator.hpp"
+#include "stickslip/host/signals/signal_generator.hpp"
 #include "stickslip/models/dispatch.hpp"
 
 namespace stickslip::reliability {
@@ -70,9 +70,9 @@ SceneCheck free_decay(Seat& seat, const OscillatorParams& p, std::uint64_t steps
   // 2 F_fk^2 dt^2/m, is allowed on top of the ceiling; growth (below) still counts.
   const bool chatters = (p.model == FrictionModel::signum || p.model == FrictionModel::smooth) &&
                         p.integrator != Integrator::exact;
-  const double chatter = chatters ? 2.0 * p.kinetic_friction_n * p.kinetic_friction_n * p.dt_s *
-                                        p.dt_s / p.mass_kg
-                                  : 0.0;
+  const double chatter =
+      chatters ? 2.0 * p.kinetic_friction_n * p.kinetic_friction_n * p.dt_s * p.dt_s / p.mass_kg
+               : 0.0;
   c.energy_max = c.energy_max / (e0 + chatter / kEnergyCeiling);
   c.budget = seat.event_budget_exhausted();
   c.resets = seat.state_resets();
@@ -104,10 +104,12 @@ std::string judge(const SceneCheck& decay, const SceneCheck& lorry) {
   if (decay.resets + lorry.resets > 0)
     add(format("%g state resets", static_cast<double>(decay.resets + lorry.resets)));
   if (decay.budget + lorry.budget > 0)
-    add(format("event budget exhausted in %g steps", static_cast<double>(decay.budget + lorry.budget)));
+    add(format("event budget exhausted in %g steps",
+               static_cast<double>(decay.budget + lorry.budget)));
   if (!(decay.energy_max <= kEnergyCeiling))
     add(format("free decay energy reached %.3g x its ceiling", decay.energy_max / kEnergyCeiling));
-  else if (decay.energy_first > 0.0 && !(decay.energy_last <= kEnergyGrowthBound * decay.energy_first))
+  else if (decay.energy_first > 0.0 &&
+           !(decay.energy_last <= kEnergyGrowthBound * decay.energy_first))
     add(format("free decay energy grew %.3g x from the first to the last third",
                decay.energy_last / decay.energy_first));
   if (!lorry.bounded) add("|x_r| > 1 m on the lorry input");
@@ -144,9 +146,12 @@ std::string refusal_parameter(const std::string& message) {
 
 const char* verdict_name(Verdict verdict) noexcept {
   switch (verdict) {
-    case Verdict::refused: return "refused";
-    case Verdict::stable: return "stable";
-    case Verdict::unstable: return "unstable";
+    case Verdict::refused:
+      return "refused";
+    case Verdict::stable:
+      return "stable";
+    case Verdict::unstable:
+      return "unstable";
   }
   return "?";
 }
@@ -174,25 +179,28 @@ MapGrid coarse_grid() {
 
 std::string law_label(const OscillatorParams& params) {
   std::string label = model_name(params.model);
-  if (params.model == FrictionModel::smooth) label += std::string("/") + smoothing_name(params.smoothing);
+  if (params.model == FrictionModel::smooth)
+    label += std::string("/") + smoothing_name(params.smoothing);
   return label;
 }
 
 std::string describe(const Cell& cell) {
   const OscillatorParams& p = cell.params;
   char buffer[320];
-  std::snprintf(buffer, sizeof buffer, "%s %s %s K=%g zeta=%g%s dt=%g s", cell.in_float ? "float" : "double",
-                law_label(p).c_str(), integrator_name(p.integrator), cell.den_hartog_k,
-                cell.damping_ratio,
-                p.model == FrictionModel::smooth ? format(" c=%g s/m", p.smoothing_constant_s_per_m).c_str() : "",
-                p.dt_s);
+  std::snprintf(
+      buffer, sizeof buffer, "%s %s %s K=%g zeta=%g%s dt=%g s", cell.in_float ? "float" : "double",
+      law_label(p).c_str(), integrator_name(p.integrator), cell.den_hartog_k, cell.damping_ratio,
+      p.model == FrictionModel::smooth ? format(" c=%g s/m", p.smoothing_constant_s_per_m).c_str()
+                                       : "",
+      p.dt_s);
   return buffer;
 }
 
 std::vector<double> lorry_input(double dt_s, double duration_s, std::uint64_t max_steps) {
   const std::vector<double>& base = base_lorry();
   const double wanted = std::floor(std::min(duration_s, kBaseDurationS) / dt_s + 1e-9);
-  const std::uint64_t steps = std::min<std::uint64_t>(max_steps, static_cast<std::uint64_t>(wanted));
+  const std::uint64_t steps =
+      std::min<std::uint64_t>(max_steps, static_cast<std::uint64_t>(wanted));
   std::vector<double> out(steps + 1);
   for (std::uint64_t n = 0; n <= steps; ++n) {
     const double position = static_cast<double>(n) * (dt_s / kBaseDtS);
@@ -229,7 +237,8 @@ std::vector<Cell> run_map(const MapGrid& grid, void (*progress)(double, std::siz
                            {FrictionModel::signum, SmoothingLaw::tanh, 1e3},
                            {FrictionModel::stick_slip, SmoothingLaw::tanh, 1e3},
                            {FrictionModel::stribeck, SmoothingLaw::tanh, 1e3}};
-  for (SmoothingLaw s : {SmoothingLaw::atan, SmoothingLaw::tanh, SmoothingLaw::erf, SmoothingLaw::rational})
+  for (SmoothingLaw s :
+       {SmoothingLaw::atan, SmoothingLaw::tanh, SmoothingLaw::erf, SmoothingLaw::rational})
     for (double c : grid.smoothing_c) laws.push_back({FrictionModel::smooth, s, c});
   const Integrator integrators[] = {Integrator::euler, Integrator::symplectic, Integrator::rk4,
                                     Integrator::exact};
@@ -277,8 +286,9 @@ std::string markdown_report(const MapGrid& grid, const std::vector<Cell>& cells,
   md += "# Stability map\n\n";
   md += "Generated by `" + command + "` (" + format("%.0f", seconds) + " s, " +
         format("%.0f", static_cast<double>(cells.size())) + " cells). Do not edit by hand.\n\n";
-  md += "Every friction law x integrator x scalar type on the reference seat (m = 88.4 kg, "
-        "k = 11.5 kN/m) over\n\n";
+  md +=
+      "Every friction law x integrator x scalar type on the reference seat (m = 88.4 kg, "
+      "k = 11.5 kN/m) over\n\n";
   md += "- Den Hartog's K: " + list(grid.den_hartog_k) +
         " (F_fk = K pi sqrt(2) m a0u / 4, a0u = 0.35 m/s^2; Stribeck F_fs = 1.3 F_fk, v_S = "
         "0.01 m/s; stick-slip F_fs = F_fk)\n";
@@ -318,8 +328,9 @@ std::string markdown_report(const MapGrid& grid, const std::vector<Cell>& cells,
     if (c.verdict == Verdict::refused) ++t.refused[refusal_parameter(c.reason)];
   }
   int total_unstable = 0, total_refused = 0, total_stable = 0;
-  md += "## Summary\n\n| law | integrator | type | cells | stable | unstable | refused (by the "
-        "parameter named) |\n|---|---|---|---:|---:|---:|---|\n";
+  md +=
+      "## Summary\n\n| law | integrator | type | cells | stable | unstable | refused (by the "
+      "parameter named) |\n|---|---|---|---:|---:|---:|---|\n";
   std::sort(order.begin(), order.end());
   for (const std::string& key : order) {
     const Tally& t = tallies[key];
@@ -350,7 +361,8 @@ std::string markdown_report(const MapGrid& grid, const std::vector<Cell>& cells,
   for (const Cell& c : cells) {
     if (c.verdict != Verdict::refused) continue;
     std::string kind = c.reason.substr(0, c.reason.find_first_of("0123456789"));
-    if (examples.find(kind) == examples.end()) examples[kind] = describe(c) + ": `" + c.reason + "`";
+    if (examples.find(kind) == examples.end())
+      examples[kind] = describe(c) + ": `" + c.reason + "`";
   }
   for (const auto& [kind, example] : examples) md += "- " + example + "\n";
   return md;

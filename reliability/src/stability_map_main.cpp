@@ -49,7 +49,8 @@ int main(int argc, char** argv) {
   int unstable = 0;
   for (const Cell& c : cells) {
     if (c.verdict != Verdict::unstable) continue;
-    if (unstable++ < 20) std::fprintf(stderr, "UNSTABLE %s: %s\n", describe(c).c_str(), c.reason.c_str());
+    if (unstable++ < 20)
+      std::fprintf(stderr, "UNSTABLE %s: %s\n", describe(c).c_str(), c.reason.c_str());
   }
   std::fprintf(stderr, "stability map: %zu cells, %d unstable, %.1f s\n", cells.size(), unstable,
                seconds);

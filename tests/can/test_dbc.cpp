@@ -3,11 +3,11 @@
 // offsets, and every signal must come out as the codec decodes it.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
 #include <random>
-#include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -79,7 +79,8 @@ Dbc parse_dbc(const std::string& path) {
       unsigned id = 0;
       int length = 0;
       char name[64] = {}, transmitter[64] = {};
-      CHECK_EQUAL(4, std::sscanf(line.c_str(), "BO_ %u %63[^: ] : %d %63s", &id, name, &length, transmitter));
+      CHECK_EQUAL(4, std::sscanf(line.c_str(), "BO_ %u %63[^: ] : %d %63s", &id, name, &length,
+                                 transmitter));
       current = &dbc.messages[id];
       current->id = id;
       current->name = name;
@@ -90,9 +91,9 @@ Dbc parse_dbc(const std::string& path) {
       DbcSignal s;
       char name[64] = {}, order = 0, sign = 0;
       int consumed = 0;
-      const int fields = std::sscanf(line.c_str(), " SG_ %63s : %d|%d@%c%c (%lf,%lf) [%lf|%lf]%n", name,
-                                     &s.start_bit, &s.length, &order, &sign, &s.factor, &s.offset,
-                                     &s.minimum, &s.maximum, &consumed);
+      const int fields = std::sscanf(line.c_str(), " SG_ %63s : %d|%d@%c%c (%lf,%lf) [%lf|%lf]%n",
+                                     name, &s.start_bit, &s.length, &order, &sign, &s.factor,
+                                     &s.offset, &s.minimum, &s.maximum, &consumed);
       CHECK_EQUAL(9, fields);
       CHECK_TRUE(order == '0' || order == '1');
       CHECK_TRUE(sign == '+' || sign == '-');
@@ -138,7 +139,8 @@ long dbc_raw(const DbcSignal& s, const std::uint8_t* data) {
   for (int i = 7; i >= 0; --i) word = (word << 8) | data[i];  // Intel: byte 0 is least significant
   const std::uint64_t mask = s.length == 64 ? ~0ull : ((1ull << s.length) - 1);
   const std::uint64_t bits = (word >> s.start_bit) & mask;
-  if (s.is_signed && (bits >> (s.length - 1)) & 1u) return static_cast<long>(bits) - (1L << s.length);
+  if (s.is_signed && (bits >> (s.length - 1)) & 1u)
+    return static_cast<long>(bits) - (1L << s.length);
   return static_cast<long>(bits);
 }
 
@@ -150,7 +152,9 @@ double dbc_physical(const DbcSignal& s, const std::uint8_t* data) {
 
 TEST_GROUP(Dbc) {
   Dbc dbc;
-  void setup() override { dbc = parse_dbc(STICKSLIP_DBC_PATH); }
+  void setup() override {
+    dbc = parse_dbc(STICKSLIP_DBC_PATH);
+  }
 };
 
 TEST(Dbc, DescribesExactlyTheCodecsMessagesAndSignals) {
@@ -199,7 +203,8 @@ TEST(Dbc, DecodingCodecFramesWithTheDbcGivesTheCodecsValues) {
       payload.flags = static_cast<std::uint8_t>(random() & 15u);
       for (int j = 0; j < 2; ++j) {
         const SignalSpec& signal = spec->signals[j];
-        const double full_scale = std::ldexp(signal.is_signed ? 32768.0 : 65536.0, -signal.fraction_bits);
+        const double full_scale =
+            std::ldexp(signal.is_signed ? 32768.0 : 65536.0, -signal.fraction_bits);
         // Mostly in range, sometimes beyond (saturation), sometimes not available.
         const double value = trial % 97 == 0 ? std::nan("") : spread(random) * full_scale;
         payload.words[j] = quantise(signal, value).word;

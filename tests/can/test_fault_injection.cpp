@@ -10,7 +10,7 @@
 
 #include "CppUTest/TestHarness.h"
 #include "stickslip/can/codec.hpp"
-#include "stickslip/host/ecu_node.hpp"
+#include "stickslip/host/bus/ecu_node.hpp"
 #include "stickslip/port/loopback_transport.hpp"
 
 using namespace stickslip;
@@ -19,7 +19,9 @@ namespace {
 
 constexpr double kFaultyValue = 7.0;  // m/s^2: only faulty frames carry it
 
-double good_value(std::uint64_t n) { return 0.125 * static_cast<double>(n % 16) - 0.9375; }
+double good_value(std::uint64_t n) {
+  return 0.125 * static_cast<double>(n % 16) - 0.9375;
+}
 
 std::uint64_t clock_ns() {
   return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -36,7 +38,9 @@ can::Frame input_frame(std::uint16_t counter, std::uint8_t alive, double a_u) {
   return can::make_frame(can::kSeatInput, payload);
 }
 
-can::Frame faulty_frame(std::uint64_t n) { return can::make_input_frame(kFaultyValue, n); }
+can::Frame faulty_frame(std::uint64_t n) {
+  return can::make_input_frame(kFaultyValue, n);
+}
 
 }  // namespace
 
@@ -123,7 +127,8 @@ TEST(FaultInjection, LostFramesAreCountedAndTheirSamplesHeldAndFlagged) {
   good(7);
   good_range(9, 9);  // 8 lost: this frame's outputs start with the held sample
   for (const can::Frame& f : outputs)
-    if (f.id == can::kSeatMotion.id && (can::decode_payload(f.data).flags & can::kHeld)) held_flag_sent = true;
+    if (f.id == can::kSeatMotion.id && (can::decode_payload(f.data).flags & can::kHeld))
+      held_flag_sent = true;
   CHECK_TRUE(held_flag_sent);
 }
 
@@ -329,11 +334,16 @@ TEST(FaultInjection, TenSecondsOfRandomFramesLeaveTheNodeRunning) {
     const std::uint32_t r = random();
     frame.id = (r & 3u) == 0 ? can::kSeatInput.id : ((r >> 2) & can::kStandardIdMask);
     const std::uint32_t kind = (r >> 13) & 15u;
-    frame.flags = kind == 0 ? can::kFd : kind == 1 ? can::kRemote : kind == 2 ? can::kErrorFrame
-                : kind == 3 ? can::kExtendedId : 0;
+    frame.flags = kind == 0   ? can::kFd
+                  : kind == 1 ? can::kRemote
+                  : kind == 2 ? can::kErrorFrame
+                  : kind == 3 ? can::kExtendedId
+                              : 0;
     if (frame.flags == can::kExtendedId) frame.id = random() & can::kExtendedIdMask;
-    frame.length = static_cast<std::uint8_t>(frame.flags == can::kFd ? random() % 65u : random() % 9u);
-    for (std::uint8_t b = 0; b < frame.length; ++b) frame.data[b] = static_cast<std::uint8_t>(random());
+    frame.length =
+        static_cast<std::uint8_t>(frame.flags == can::kFd ? random() % 65u : random() % 9u);
+    for (std::uint8_t b = 0; b < frame.length; ++b)
+      frame.data[b] = static_cast<std::uint8_t>(random());
     CHECK(sender->send(frame) == port::TransportStatus::ok);
     can::Frame received;
     CHECK(node_port->receive(received, 1000) == port::TransportStatus::ok);

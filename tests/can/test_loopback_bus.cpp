@@ -21,7 +21,8 @@ can::Frame frame_with_id(std::uint32_t id, std::uint8_t first_byte = 0) {
   return frame;
 }
 
-std::unique_ptr<port::Transport> open_loopback(std::size_t queue = port::kLoopbackDefaultQueueFrames) {
+std::unique_ptr<port::Transport> open_loopback(
+    std::size_t queue = port::kLoopbackDefaultQueueFrames) {
   auto transport = port::make_loopback_transport(queue);
   if (transport->open("loopback") != TransportStatus::ok) return nullptr;
   return transport;
@@ -34,15 +35,19 @@ TEST_GROUP(LoopbackBus){};
 TEST(LoopbackBus, EveryOtherEndpointReceivesInOrderButNeverItsOwnFrames) {
   auto a = open_loopback(), b = open_loopback(), c = open_loopback();
   CHECK(a && b && c);
-  for (std::uint8_t i = 0; i < 5; ++i) LONGS_EQUAL(static_cast<int>(TransportStatus::ok), static_cast<int>(a->send(frame_with_id(0x100, i))));
+  for (std::uint8_t i = 0; i < 5; ++i)
+    LONGS_EQUAL(static_cast<int>(TransportStatus::ok),
+                static_cast<int>(a->send(frame_with_id(0x100, i))));
   can::Frame got;
   for (port::Transport* receiver : {b.get(), c.get()}) {
     for (std::uint8_t i = 0; i < 5; ++i) {
-      LONGS_EQUAL(static_cast<int>(TransportStatus::ok), static_cast<int>(receiver->receive(got, 0)));
+      LONGS_EQUAL(static_cast<int>(TransportStatus::ok),
+                  static_cast<int>(receiver->receive(got, 0)));
       LONGS_EQUAL(i, got.data[0]);
       CHECK(got.timestamp_ns > 0);
     }
-    LONGS_EQUAL(static_cast<int>(TransportStatus::timeout), static_cast<int>(receiver->receive(got, 0)));
+    LONGS_EQUAL(static_cast<int>(TransportStatus::timeout),
+                static_cast<int>(receiver->receive(got, 0)));
   }
   LONGS_EQUAL(static_cast<int>(TransportStatus::timeout), static_cast<int>(a->receive(got, 0)));
   LONGS_EQUAL(5, a->counters().frames_sent);
@@ -100,9 +105,11 @@ TEST(LoopbackBus, FramesTheBusCannotCarryAreRefused) {
   auto a = open_loopback(), b = open_loopback();
   can::Frame too_long = frame_with_id(0x100);
   too_long.length = 9;
-  LONGS_EQUAL(static_cast<int>(TransportStatus::invalid_argument), static_cast<int>(a->send(too_long)));
+  LONGS_EQUAL(static_cast<int>(TransportStatus::invalid_argument),
+              static_cast<int>(a->send(too_long)));
   can::Frame bad_id = frame_with_id(0x800);
-  LONGS_EQUAL(static_cast<int>(TransportStatus::invalid_argument), static_cast<int>(a->send(bad_id)));
+  LONGS_EQUAL(static_cast<int>(TransportStatus::invalid_argument),
+              static_cast<int>(a->send(bad_id)));
   LONGS_EQUAL(2, a->counters().send_failures);
   // CAN FD and extended frames are carried (so that faults can be injected).
   can::Frame fd = frame_with_id(0x100);
@@ -120,12 +127,15 @@ TEST(LoopbackBus, FramesTheBusCannotCarryAreRefused) {
 TEST(LoopbackBus, ClosedEndpointsNeitherSendNorReceive) {
   auto a = open_loopback(), b = open_loopback();
   b->close();
-  LONGS_EQUAL(static_cast<int>(TransportStatus::ok), static_cast<int>(a->send(frame_with_id(0x100))));
+  LONGS_EQUAL(static_cast<int>(TransportStatus::ok),
+              static_cast<int>(a->send(frame_with_id(0x100))));
   can::Frame got;
   LONGS_EQUAL(static_cast<int>(TransportStatus::closed), static_cast<int>(b->receive(got, 0)));
-  LONGS_EQUAL(static_cast<int>(TransportStatus::closed), static_cast<int>(b->send(frame_with_id(0x100))));
+  LONGS_EQUAL(static_cast<int>(TransportStatus::closed),
+              static_cast<int>(b->send(frame_with_id(0x100))));
   auto unopened = port::make_loopback_transport();
-  LONGS_EQUAL(static_cast<int>(TransportStatus::no_such_interface), static_cast<int>(unopened->open("can7")));
+  LONGS_EQUAL(static_cast<int>(TransportStatus::no_such_interface),
+              static_cast<int>(unopened->open("can7")));
 }
 
 TEST(LoopbackBus, MakeTransportAndDefaultBusName) {

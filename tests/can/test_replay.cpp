@@ -9,10 +9,10 @@
 #include <nlohmann/json.hpp>
 
 #include "CppUTest/TestHarness.h"
-#include "cli_test_support.hpp"
+#include "host_test_support.hpp"
 #include "stickslip/can/codec.hpp"
-#include "stickslip/host/bus_commands.hpp"
-#include "stickslip/host/csv_reader.hpp"
+#include "stickslip/host/bus/bus_commands.hpp"
+#include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/port/loopback_transport.hpp"
 
 using namespace stickslip;
@@ -27,7 +27,8 @@ void write_quantised_csv(const std::string& in, const std::string& out) {
   std::FILE* file = std::fopen(out.c_str(), "w");
   std::fprintf(file, "t,a_u\n");
   for (std::size_t n = 0; n < signal.t_s.size(); ++n)
-    std::fprintf(file, "%.17g,%.17g\n", signal.t_s[n], can::quantised_input(signal.a_u_m_per_s2[n]));
+    std::fprintf(file, "%.17g,%.17g\n", signal.t_s[n],
+                 can::quantised_input(signal.a_u_m_per_s2[n]));
   std::fclose(file);
 }
 
@@ -46,16 +47,18 @@ TEST(Replay, LoopbackReplayOfA120sLorryRecordingEqualsSimulateOnTheQuantisedInpu
   const std::string lorry = dir.file("lorry.csv"), quantised = dir.file("quantised.csv");
   const std::string replayed = dir.file("replayed.csv"), simulated = dir.file("simulated.csv");
   LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "lorry", "--rms", "0.35", "--duration", "120",
-                                "--dt", "0.001", "--seed", "1", "--output", lorry}).status);
+                                "--dt", "0.001", "--seed", "1", "--output", lorry})
+                     .status);
   write_quantised_csv(lorry, quantised);
-  const std::vector<std::string> model = {"--model", "stick-slip", "--mass", "88.4", "--stiffness",
-                                          "11500", "--damping", "504", "--ffk", "45"};
-  std::vector<std::string> replay = {"replay", "--input", lorry, "--bus", "loopback", "--output", replayed};
+  const std::vector<std::string> model = {"--model", "stick-slip", "--mass", "88.4",  "--stiffness",
+                                          "11500",   "--damping",  "504",    "--ffk", "45"};
+  std::vector<std::string> replay = {"replay",   "--input",  lorry,   "--bus",
+                                     "loopback", "--output", replayed};
   replay.insert(replay.end(), model.begin(), model.end());
   const CliRun r = run_stickslip(replay);
   LONGS_EQUAL(0, r.status);
-  std::vector<std::string> simulate = {"simulate", "--input", quantised, "--output", simulated,
-                                       "--repetitions", "1"};
+  std::vector<std::string> simulate = {"simulate", "--input",       quantised, "--output",
+                                       simulated,  "--repetitions", "1"};
   simulate.insert(simulate.end(), model.begin(), model.end());
   const CliRun s = run_stickslip(simulate);
   LONGS_EQUAL(0, s.status);
@@ -82,27 +85,30 @@ TEST(Replay, LoopbackReplayOfA120sLorryRecordingEqualsSimulateOnTheQuantisedInpu
 TEST(Replay, FloatRunsAndOtherLawsAgreeBitForBitToo) {
   const std::string wideband = dir.file("wideband.csv"), quantised = dir.file("quantised.csv");
   LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "wideband", "--rms", "2", "--duration", "5",
-                                "--dt", "0.001", "--seed", "3", "--output", wideband}).status);
+                                "--dt", "0.001", "--seed", "3", "--output", wideband})
+                     .status);
   write_quantised_csv(wideband, quantised);
   for (const char* law : {"stribeck", "smooth", "signum"}) {
-    const std::vector<std::string> model = {"--model", law, "--ffk", "30", "--ffs", "40",
-                                            "--scalar", "float"};
-    std::vector<std::string> replay = {"replay", "--input", wideband, "--output", dir.file("r.csv")};
+    const std::vector<std::string> model = {"--model", law,  "--ffk",    "30",
+                                            "--ffs",   "40", "--scalar", "float"};
+    std::vector<std::string> replay = {"replay", "--input", wideband, "--output",
+                                       dir.file("r.csv")};
     replay.insert(replay.end(), model.begin(), model.end());
     LONGS_EQUAL(0, run_stickslip(replay).status);
-    std::vector<std::string> simulate = {"simulate", "--input", quantised, "--output",
+    std::vector<std::string> simulate = {"simulate",        "--input",       quantised, "--output",
                                          dir.file("s.csv"), "--repetitions", "1"};
     simulate.insert(simulate.end(), model.begin(), model.end());
     LONGS_EQUAL(0, run_stickslip(simulate).status);
-    CHECK_TRUE(stickslip::test::read_text(dir.file("r.csv")) == stickslip::test::read_text(dir.file("s.csv")));
+    CHECK_TRUE(stickslip::test::read_text(dir.file("r.csv")) ==
+               stickslip::test::read_text(dir.file("s.csv")));
   }
 }
 
 TEST(Replay, SaturatedInputIsReportedAndClipped) {
   const std::string input = dir.file("big.csv");
   stickslip::test::write_text(input, "t,a_u\n0,0.5\n0.001,40\n0.002,-100\n0.003,0.25\n");
-  const CliRun r = run_stickslip({"replay", "--input", input, "--output", dir.file("o.csv"),
-                                  "--model", "linear"});
+  const CliRun r = run_stickslip(
+      {"replay", "--input", input, "--output", dir.file("o.csv"), "--model", "linear"});
   LONGS_EQUAL(0, r.status);
   CHECK(r.out.find("2 input samples saturated") != std::string::npos);
   LONGS_EQUAL(2, last_json_line(r.out)["faults"]["sender_saturated"].get<int>());
@@ -113,14 +119,18 @@ TEST(Replay, SaturatedInputIsReportedAndClipped) {
 TEST(Replay, RealtimeRateTakesTheRecordingsDuration) {
   const std::string input = dir.file("short.csv");
   LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "harmonic", "--rms", "1", "--duration", "0.2",
-                                "--dt", "0.001", "--frequency", "5", "--output", input}).status);
+                                "--dt", "0.001", "--frequency", "5", "--output", input})
+                     .status);
   const auto start = std::chrono::steady_clock::now();
   LONGS_EQUAL(0, run_stickslip({"replay", "--input", input, "--output", dir.file("o.csv"),
-                                "--model", "stick-slip", "--rate", "realtime"}).status);
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                                "--model", "stick-slip", "--rate", "realtime"})
+                     .status);
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CHECK(elapsed >= 0.19);
   LONGS_EQUAL(2, run_stickslip({"replay", "--input", input, "--output", dir.file("o.csv"),
-                                "--model", "stick-slip", "--rate", "warp"}).status);
+                                "--model", "stick-slip", "--rate", "warp"})
+                     .status);
 }
 
 TEST(Replay, UnknownBusFailsWithOneLine) {
@@ -189,7 +199,8 @@ TEST(EcuCommand, NodeAloneConsumesFramesUntilTheFrameLimitAndReportsCounters) {
   LONGS_EQUAL(0, json["first_sample"].get<int>());
   LONGS_EQUAL(50, json["last_sample"].get<int>());
   LONGS_EQUAL(0, json["bus_down"].get<int>());
-  const auto index = stickslip::test::split_lines(stickslip::test::read_text(request.sample_index_path));
+  const auto index =
+      stickslip::test::split_lines(stickslip::test::read_text(request.sample_index_path));
   LONGS_EQUAL(52, index.size());
   STRCMP_EQUAL("n,sample,held", index[0].c_str());
   STRCMP_EQUAL("0,0,0", index[1].c_str());
@@ -201,9 +212,11 @@ TEST(EcuCommand, NodeAloneWritesWhatReplayWritesForTheSameFrames) {
   // to `ecu`; its CSV must equal replay's (and so simulate's on the quantised input).
   const std::string lorry = dir.file("lorry.csv");
   LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "lorry", "--rms", "0.35", "--duration", "10",
-                                "--dt", "0.001", "--seed", "2", "--output", lorry}).status);
+                                "--dt", "0.001", "--seed", "2", "--output", lorry})
+                     .status);
   LONGS_EQUAL(0, run_stickslip({"replay", "--input", lorry, "--output", dir.file("replay.csv"),
-                                "--model", "stick-slip", "--ffk", "45"}).status);
+                                "--model", "stick-slip", "--ffk", "45"})
+                     .status);
   const host::BusRecording recording = host::frames_from_csv(lorry);
   host::EcuRequest request;
   request.bus = "loopback";
@@ -257,7 +270,8 @@ TEST_GROUP(PlayCommand) {
 TEST(PlayCommand, SendsEveryFrameOfTheRecordingAtTheGivenSpeed) {
   const std::string input = dir.file("short.csv");
   LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "harmonic", "--rms", "1", "--duration", "0.2",
-                                "--dt", "0.001", "--frequency", "5", "--output", input}).status);
+                                "--dt", "0.001", "--frequency", "5", "--output", input})
+                     .status);
   auto listener = port::make_loopback_transport();
   CHECK(listener->open("loopback") == port::TransportStatus::ok);
   host::PlayRequest request;
@@ -266,7 +280,8 @@ TEST(PlayCommand, SendsEveryFrameOfTheRecordingAtTheGivenSpeed) {
   request.speed = 4.0;  // 201 frames, 0.05 s
   const auto start = std::chrono::steady_clock::now();
   const host::PlayResult result = host::play_file(request);
-  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   CHECK(elapsed >= 0.049);
   LONGS_EQUAL(201, result.frames);
   LONGS_EQUAL(201, result.attempted);

@@ -17,10 +17,18 @@ namespace stickslip::test {
 
 // A refusal must start with one of these, then ':'.
 inline bool names_a_fixed_point_parameter(const char* message) {
-  static const char* const kParameters[] = {
-      "mass_kg",         "stiffness_n_per_m", "damping_ns_per_m",     "kinetic_friction_n",
-      "static_friction_n", "smoothing_constant_s_per_m", "dt_s",   "model",
-      "input_range_m_per_s2", "displacement_range_m", "integrator", "smoothing"};
+  static const char* const kParameters[] = {"mass_kg",
+                                            "stiffness_n_per_m",
+                                            "damping_ns_per_m",
+                                            "kinetic_friction_n",
+                                            "static_friction_n",
+                                            "smoothing_constant_s_per_m",
+                                            "dt_s",
+                                            "model",
+                                            "input_range_m_per_s2",
+                                            "displacement_range_m",
+                                            "integrator",
+                                            "smoothing"};
   for (const char* name : kParameters) {
     const std::size_t n = std::strlen(name);
     if (std::strncmp(message, name, n) == 0 && message[n] == ':') return true;
@@ -87,9 +95,10 @@ void for_each_extreme_scene(double input_range_m_per_s2, double displacement_ran
     const std::vector<double> a_u = signal.sample(dt, 600);
     for (double k_factor : {0.0, 0.5, 3.0, 100.0}) {
       for (double zeta : {0.0, 0.25, 2.0}) {
-        for (Integrator integrator : {Integrator::euler, Integrator::symplectic, Integrator::exact}) {
-          OscillatorParams p = reference_params(FrictionModel::linear, integrator, dt,
-                                                zeta * critical);
+        for (Integrator integrator :
+             {Integrator::euler, Integrator::symplectic, Integrator::exact}) {
+          OscillatorParams p =
+              reference_params(FrictionModel::linear, integrator, dt, zeta * critical);
           p.input_range_m_per_s2 = input_range_m_per_s2;
           p.displacement_range_m = displacement_range_m;
           p.kinetic_friction_n = kinetic_friction_for_den_hartog(k_factor, kMassKg, 0.35);

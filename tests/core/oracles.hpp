@@ -41,7 +41,8 @@ inline double natural_frequency_rad_s(double mass_kg, double stiffness_n_per_m) 
 }
 
 // Den Hartog's K inverted: the kinetic friction that gives factor K at input RMS a0u.
-inline double kinetic_friction_for_den_hartog(double k_factor, double mass_kg, double rms_m_per_s2) {
+inline double kinetic_friction_for_den_hartog(double k_factor, double mass_kg,
+                                              double rms_m_per_s2) {
   return k_factor * kPi * std::sqrt(2.0) * mass_kg * rms_m_per_s2 / 4.0;
 }
 
@@ -90,7 +91,8 @@ struct LorrySignal {
   }
   double rms() const {
     double sum = 0.0;
-    for (int i = 0; i < kComponents; ++i) sum += 0.5 * amplitude_m_per_s2[i] * amplitude_m_per_s2[i];
+    for (int i = 0; i < kComponents; ++i)
+      sum += 0.5 * amplitude_m_per_s2[i] * amplitude_m_per_s2[i];
     return std::sqrt(sum);
   }
   // Samples a_u[n] = a(n dt), n = 0..count-1.

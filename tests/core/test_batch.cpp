@@ -24,9 +24,9 @@ constexpr std::size_t kSteps = 60000;  // 60 s
 // Eight different seats: friction from K ~ 0.3 to ~1.8 (F_fs >= F_fk), masses, springs and
 // dampers around the reference (b = 0 included), and every integrator.
 OscillatorParams lane_params(std::size_t lane) {
-  const Integrator integrators[] = {Integrator::exact, Integrator::rk4, Integrator::exact,
+  const Integrator integrators[] = {Integrator::exact,      Integrator::rk4,   Integrator::exact,
                                     Integrator::symplectic, Integrator::exact, Integrator::euler,
-                                    Integrator::exact, Integrator::rk4};
+                                    Integrator::exact,      Integrator::rk4};
   OscillatorParams p = test::reference_params(FrictionModel::stick_slip, integrators[lane], kDtS);
   const double l = static_cast<double>(lane);
   p.kinetic_friction_n = 10.0 + 7.0 * l;

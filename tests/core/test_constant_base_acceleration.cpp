@@ -47,7 +47,8 @@ void check_never_moves(Integrator integrator, double a_u_double, bool ramp_in) {
   // Released with the input already there, or ramped in over the first step by the hold.
   seat.reset(T(0), T(0), ramp_in ? T(0) : a_u);
   CHECK(seat.current().stuck);
-  const T holding = -(static_cast<T>(test::kMassKg) * a_u + static_cast<T>(test::kStiffnessNPerM) * T(0));
+  const T holding =
+      -(static_cast<T>(test::kMassKg) * a_u + static_cast<T>(test::kStiffnessNPerM) * T(0));
   for (int j = 0; j < 20000; ++j) {
     const auto out = seat.step(a_u);
     CHECK(out.stuck);
@@ -80,8 +81,8 @@ SlipRun run_slip(double a_u, double damping, double dt, int expected_half_cycles
   CHECK(std::fabs(std::fabs(limit_at_stop) - kStaticN) > 1e-3);
 
   Oscillator<double, CoulombStickSlip> seat;
-  const auto config = seat.configure(sticking_params(FrictionModel::stick_slip, Integrator::exact,
-                                                     dt, damping));
+  const auto config =
+      seat.configure(sticking_params(FrictionModel::stick_slip, Integrator::exact, dt, damping));
   CHECK_TEXT(config.ok(), config.message.c_str());
   seat.reset(0.0, 0.0, a_u);
   CHECK_FALSE(seat.current().stuck);  // |m a_u| > F_fs: slipping from t = 0
@@ -122,19 +123,23 @@ SlipRun run_slip(double a_u, double damping, double dt, int expected_half_cycles
 
 void check_slip(const SlipRun& r, const char* what, double a_u, double dt) {
   const SimpleString where = StringFromFormat("%s a_u = %g, dt = %g", what, a_u, dt);
-  CHECK_TEXT(r.stick_time_error_s < kTimeTolerance,
-             StringFromFormat("%s: stick instant error %.3e s", where.asCharString(),
-                              r.stick_time_error_s).asCharString());
+  CHECK_TEXT(
+      r.stick_time_error_s < kTimeTolerance,
+      StringFromFormat("%s: stick instant error %.3e s", where.asCharString(), r.stick_time_error_s)
+          .asCharString());
   CHECK_TEXT(r.stick_position_error_m < kPositionTolerance,
              StringFromFormat("%s: stick position error %.3e m", where.asCharString(),
-                              r.stick_position_error_m).asCharString());
-  CHECK_TEXT(r.trajectory_error_m < kPositionTolerance,
-             StringFromFormat("%s: trajectory error %.3e m", where.asCharString(),
-                              r.trajectory_error_m).asCharString());
+                              r.stick_position_error_m)
+                 .asCharString());
+  CHECK_TEXT(
+      r.trajectory_error_m < kPositionTolerance,
+      StringFromFormat("%s: trajectory error %.3e m", where.asCharString(), r.trajectory_error_m)
+          .asCharString());
   // a_x = -(k x + b v + F_fk d)/m inherits k/m ~ 130 1/s^2 times the position error.
   CHECK_TEXT(r.acceleration_error_m_per_s2 < 1e-6,
              StringFromFormat("%s: a_x error %.3e m/s^2", where.asCharString(),
-                              r.acceleration_error_m_per_s2).asCharString());
+                              r.acceleration_error_m_per_s2)
+                 .asCharString());
 }
 
 const double kSteps_s[] = {1e-4, 1e-3, 1e-2, 0.05};
@@ -181,7 +186,8 @@ TEST(ConstantBaseAcceleration, DampedSlipSticksAfterHalfADampedPeriod) {
   DOUBLES_EQUAL(kPi / wd, chain.stop_s, 1e-15);
   DOUBLES_EQUAL(x_e * (1.0 + std::exp(-sigma * kPi / wd)), chain.stop_x_m, 1e-15);
   test::note_margin("damped stick instant error, s", worst_time, kTimeTolerance);
-  test::note_margin("damped stick position/trajectory error, m", worst_position, kPositionTolerance);
+  test::note_margin("damped stick position/trajectory error, m", worst_position,
+                    kPositionTolerance);
 }
 
 // b = 0: half an undamped period pi/omega0, x = 2 x_e; sticks if m a_u <= F_fs + 2 F_fk.

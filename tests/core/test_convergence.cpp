@@ -101,9 +101,11 @@ void check_observed_order(const char* what, double order, double dt0, int halvin
     dt *= 0.5;
     const double current = error(dt);
     const double observed = std::log2(previous / current);
-    CHECK_TEXT(std::fabs(observed - order) < 0.1,
-               StringFromFormat("%s: observed order %.3f at dt = %g (errors %.3e -> %.3e), expected %g",
-                                what, observed, dt, previous, current, order).asCharString());
+    CHECK_TEXT(
+        std::fabs(observed - order) < 0.1,
+        StringFromFormat("%s: observed order %.3f at dt = %g (errors %.3e -> %.3e), expected %g",
+                         what, observed, dt, previous, current, order)
+            .asCharString());
     test::note_margin(what, observed, order);
     previous = current;
   }
@@ -111,7 +113,7 @@ void check_observed_order(const char* what, double order, double dt0, int halvin
 
 // ---- stick-slip on a lorry-like signal ------------------------------------------------------
 
-constexpr double kLorryRms = 0.35;    // m/s^2
+constexpr double kLorryRms = 0.35;       // m/s^2
 constexpr double kLorryKineticN = 35.0;  // K = 1.02 at 0.35 m/s^2: well into stick-slip
 constexpr double kLorryStaticN = 45.0;
 
@@ -168,8 +170,9 @@ TEST(Convergence, FreeDecayEulerIsFirstOrder) {
 
 TEST(Convergence, FreeDecaySymplecticIsFirstOrder) {
   for (double b : {test::kDampingNsPerM, 0.0}) {
-    check_observed_order("symplectic free decay order", 1.0, 1e-3, 3,
-                         [b](double dt) { return free_decay_error(Integrator::symplectic, b, dt, 2.0); });
+    check_observed_order("symplectic free decay order", 1.0, 1e-3, 3, [b](double dt) {
+      return free_decay_error(Integrator::symplectic, b, dt, 2.0);
+    });
   }
 }
 
@@ -186,7 +189,8 @@ TEST(Convergence, FreeDecayExactIsExactAtAnyStep) {
   for (double dt : {1e-4, 1e-3, 1e-2, 0.05, 0.2}) {
     for (double b : {test::kDampingNsPerM, 0.0, 4032.0 /* zeta = 2 */}) {
       const double e = free_decay_error(Integrator::exact, b, dt, 2.0);
-      CHECK_TEXT(e < 1e-13, StringFromFormat("dt = %g b = %g: error %.3e m", dt, b, e).asCharString());
+      CHECK_TEXT(e < 1e-13,
+                 StringFromFormat("dt = %g b = %g: error %.3e m", dt, b, e).asCharString());
       worst = std::max(worst, e);
     }
   }
@@ -197,8 +201,9 @@ TEST(Convergence, FreeDecayExactIsExactAtAnyStep) {
 TEST(Convergence, SampledInputOrdersAgainstExactOnTheSameHold) {
   check_observed_order("euler FOH-input order", 1.0, 1e-3, 3,
                        [](double dt) { return sampled_input_error(Integrator::euler, dt, 3.0); });
-  check_observed_order("symplectic FOH-input order", 1.0, 1e-3, 3,
-                       [](double dt) { return sampled_input_error(Integrator::symplectic, dt, 3.0); });
+  check_observed_order("symplectic FOH-input order", 1.0, 1e-3, 3, [](double dt) {
+    return sampled_input_error(Integrator::symplectic, dt, 3.0);
+  });
   check_observed_order("rk4 FOH-input order", 4.0, 8e-3, 3,
                        [](double dt) { return sampled_input_error(Integrator::rk4, dt, 3.0); });
 }
@@ -243,8 +248,10 @@ TEST(Convergence, StickSlipExactAgreesAcrossStepsOnTheSameInput) {
   const LorryResult a = run_lorry(coarse, dt_coarse, 1);
   const LorryResult b = run_lorry(coarse, dt_coarse, 1000);
   double worst = 0.0;
-  for (std::size_t n = 0; n < coarse.size(); ++n) worst = std::max(worst, std::fabs(a.x_at_coarse[n] - b.x_at_coarse[n]));
-  CHECK_TEXT(worst < 1e-8, StringFromFormat("max |x(10 ms) - x(1e-5 s)| = %.3e m", worst).asCharString());
+  for (std::size_t n = 0; n < coarse.size(); ++n)
+    worst = std::max(worst, std::fabs(a.x_at_coarse[n] - b.x_at_coarse[n]));
+  CHECK_TEXT(worst < 1e-8,
+             StringFromFormat("max |x(10 ms) - x(1e-5 s)| = %.3e m", worst).asCharString());
   CHECK(a.stick_probability > 0.2);  // the case does stick and slip
   CHECK(a.stick_probability < 0.95);
   CHECK_EQUAL(0u, a.budget_exhausted);
@@ -263,9 +270,11 @@ TEST(Convergence, StickSlipOneMillisecondMatchesTenMicrosecondsOnLorrySignal) {
   const double t_rel = std::fabs(a.transmissibility / b.transmissibility - 1.0);
   const double p_abs = std::fabs(a.stick_probability - b.stick_probability);
   CHECK_TEXT(t_rel < 1e-3, StringFromFormat("T_ax %.6f vs %.6f: rel. diff %.3e", a.transmissibility,
-                                            b.transmissibility, t_rel).asCharString());
+                                            b.transmissibility, t_rel)
+                               .asCharString());
   CHECK_TEXT(p_abs < 5e-3, StringFromFormat("p %.6f vs %.6f: diff %.3e", a.stick_probability,
-                                            b.stick_probability, p_abs).asCharString());
+                                            b.stick_probability, p_abs)
+                               .asCharString());
   // The scene must be a real stick-slip one, not a trivially stuck or free seat.
   CHECK(a.stick_probability > 0.2 && a.stick_probability < 0.95);
   CHECK(a.transmissibility > 0.1);

@@ -55,7 +55,8 @@ TurningPoints den_hartog_turning_points(double x0, double static_n) {
 }
 
 OscillatorParams decay_params(double dt_s, double static_n) {
-  OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::exact, dt_s, 0.0);
+  OscillatorParams p =
+      test::reference_params(FrictionModel::stick_slip, Integrator::exact, dt_s, 0.0);
   p.kinetic_friction_n = kKineticN;
   p.static_friction_n = static_n;
   return p;
@@ -137,11 +138,11 @@ DecayRun run_decay(const DecayCase& c, double dt) {
 
 const double kSteps_s[] = {1e-4, 1e-3, 1e-2, 0.05};
 const DecayCase kCases[] = {
-    {0.05, kKineticN},         // F_fs = F_fk: stops at the first |x_n| <= F_fk/k
-    {-0.0317, kKineticN},      // negative start
-    {0.2, kKineticN},          // many half cycles (~28)
-    {0.05, 1.5 * kKineticN},   // F_fs > F_fk: stops one turning point earlier
-    {0.0123, 1.5 * kKineticN}, // a single half cycle
+    {0.05, kKineticN},          // F_fs = F_fk: stops at the first |x_n| <= F_fk/k
+    {-0.0317, kKineticN},       // negative start
+    {0.2, kKineticN},           // many half cycles (~28)
+    {0.05, 1.5 * kKineticN},    // F_fs > F_fk: stops one turning point earlier
+    {0.0123, 1.5 * kKineticN},  // a single half cycle
     {-0.12, 1.25 * kKineticN},
 };
 
@@ -156,14 +157,16 @@ TEST(CoulombFreeDecay, StopsAtFirstTurningPointWithinStaticFriction) {
   for (double dt : kSteps_s) {
     for (const DecayCase& c : kCases) {
       const DecayRun r = run_decay(c, dt);
-      const SimpleString where = StringFromFormat("x0 = %g m, F_fs = %g N, dt = %g s", c.x0_m,
-                                                  c.static_n, dt);
-      CHECK_TEXT(r.stop_time_error_s < kTimeTolerance,
-                 StringFromFormat("%s: stop time error %.3e s", where.asCharString(),
-                                  r.stop_time_error_s).asCharString());
+      const SimpleString where =
+          StringFromFormat("x0 = %g m, F_fs = %g N, dt = %g s", c.x0_m, c.static_n, dt);
+      CHECK_TEXT(
+          r.stop_time_error_s < kTimeTolerance,
+          StringFromFormat("%s: stop time error %.3e s", where.asCharString(), r.stop_time_error_s)
+              .asCharString());
       CHECK_TEXT(r.stop_position_error_m < kPositionTolerance,
                  StringFromFormat("%s: stop position error %.3e m", where.asCharString(),
-                                  r.stop_position_error_m).asCharString());
+                                  r.stop_position_error_m)
+                     .asCharString());
       worst_time = std::max(worst_time, r.stop_time_error_s);
       worst_position = std::max(worst_position, r.stop_position_error_m);
     }
@@ -179,17 +182,20 @@ TEST(CoulombFreeDecay, ReversalsLoseTwoFrictionDisplacementsEveryHalfPeriod) {
   for (double dt : kSteps_s) {
     for (const DecayCase& c : kCases) {
       const DecayRun r = run_decay(c, dt);
-      const SimpleString where = StringFromFormat("x0 = %g m, F_fs = %g N, dt = %g s", c.x0_m,
-                                                  c.static_n, dt);
+      const SimpleString where =
+          StringFromFormat("x0 = %g m, F_fs = %g N, dt = %g s", c.x0_m, c.static_n, dt);
       CHECK_TEXT(r.reversal_time_error_s < kTimeTolerance,
                  StringFromFormat("%s: reversal time error %.3e s", where.asCharString(),
-                                  r.reversal_time_error_s).asCharString());
+                                  r.reversal_time_error_s)
+                     .asCharString());
       CHECK_TEXT(r.reversal_position_error_m < kPositionTolerance,
                  StringFromFormat("%s: turning point error %.3e m", where.asCharString(),
-                                  r.reversal_position_error_m).asCharString());
+                                  r.reversal_position_error_m)
+                     .asCharString());
       CHECK_TEXT(r.trajectory_error_m < kPositionTolerance,
                  StringFromFormat("%s: trajectory error %.3e m", where.asCharString(),
-                                  r.trajectory_error_m).asCharString());
+                                  r.trajectory_error_m)
+                     .asCharString());
       worst_time = std::max(worst_time, r.reversal_time_error_s);
       worst_position = std::max(worst_position, r.reversal_position_error_m);
       worst_trajectory = std::max(worst_trajectory, r.trajectory_error_m);

@@ -38,15 +38,17 @@ struct Reference {
   std::vector<double> contact_times_s;
 };
 
-Reference reference(const OscillatorParams& p, const EndStopParams& s, const std::vector<double>& a_u,
-                    int substeps) {
+Reference reference(const OscillatorParams& p, const EndStopParams& s,
+                    const std::vector<double>& a_u, int substeps) {
   const double m = p.mass_kg, k = p.stiffness_n_per_m, b = p.damping_ns_per_m;
   const auto force = [&](double x, double v) {
     if (x > s.travel_m) return s.stiffness_n_per_m * (x - s.travel_m) + s.damping_ns_per_m * v;
     if (x < -s.travel_m) return s.stiffness_n_per_m * (x + s.travel_m) + s.damping_ns_per_m * v;
     return 0.0;
   };
-  const auto accel = [&](double x, double v, double a) { return -(k * x + b * v + force(x, v)) / m - a; };
+  const auto accel = [&](double x, double v, double a) {
+    return -(k * x + b * v + force(x, v)) / m - a;
+  };
   Reference r;
   r.x.push_back(0.0);
   r.v.push_back(0.0);
@@ -78,7 +80,8 @@ Reference reference(const OscillatorParams& p, const EndStopParams& s, const std
 
 std::vector<double> harmonic(double amplitude, double frequency_hz, std::size_t count) {
   std::vector<double> a(count);
-  for (std::size_t n = 0; n < count; ++n) a[n] = amplitude * std::sin(2 * kPi * frequency_hz * double(n) * kDt);
+  for (std::size_t n = 0; n < count; ++n)
+    a[n] = amplitude * std::sin(2 * kPi * frequency_hz * double(n) * kDt);
   return a;
 }
 
@@ -103,7 +106,8 @@ TEST(EndStops, LargeHarmonicInputHitsTheStopsAndMatchesAFineReference) {
     const StopContacts<double>& stop = model.last_step_contacts();
     worst = std::fmax(worst, std::fabs(out.x_r_m - ref.x[n]));
     largest = std::fmax(largest, std::fabs(ref.x[n]));
-    if (stop.contact_events > 0) contact_times.push_back(double(n - 1) * kDt + stop.first_contact_s);
+    if (stop.contact_events > 0)
+      contact_times.push_back(double(n - 1) * kDt + stop.first_contact_s);
     CHECK_TRUE(stop.contact_events <= 1);
   }
   CHECK_TRUE(largest > s.travel_m + 0.005);  // it really goes into the stops
@@ -112,7 +116,7 @@ TEST(EndStops, LargeHarmonicInputHitsTheStopsAndMatchesAFineReference) {
   // placement shifts the velocity by up to (b_s v_r / m) x tick.
   CHECK_TRUE(worst < 5e-6 * largest);
   CHECK_EQUAL(ref.contact_times_s.size(), contact_times.size());
-  CHECK_TRUE(contact_times.size() >= 10);    // both stops, every cycle
+  CHECK_TRUE(contact_times.size() >= 10);  // both stops, every cycle
   for (std::size_t i = 0; i < contact_times.size(); ++i) {
     // The first contact to its tick (15 ns); later ones carry the state's drift above (measured
     // up to 6.6e-8 s).
@@ -132,7 +136,8 @@ TEST(EndStops, EnergyIsConservedOrDecaysThroughContacts) {
     if (variant == 0) s.damping_ns_per_m = 0.0;
     EndStopOscillator<double, NoFriction> free_seat;
     EndStopOscillator<double, CoulombStickSlip> friction_seat;
-    const bool ok = variant == 2 ? friction_seat.configure(p, s).ok() : free_seat.configure(p, s).ok();
+    const bool ok =
+        variant == 2 ? friction_seat.configure(p, s).ok() : free_seat.configure(p, s).ok();
     CHECK_TRUE(ok);
     free_seat.reset(0.06, 0.0, 0.0);  // starts 3 cm into the upper stop
     friction_seat.reset(0.06, 0.0, 0.0);
@@ -185,7 +190,7 @@ TEST(EndStops, StickSlipUnchangedOutOfReachAndStuckMeansAxEqualsAu) {
     stuck += want.stuck_fraction;
     if (got.stuck) CHECK_EQUAL(a[n], got.a_x_m_per_s2);
   }
-  CHECK_TRUE(stuck > 1000.0);       // steps' worth of sticking: the stick paths ran
+  CHECK_TRUE(stuck > 1000.0);          // steps' worth of sticking: the stick paths ran
   CHECK_TRUE(worst < 1e-6 * largest);  // event instants to a tick instead of Newton's 1e-15 s
 
   // Stops in reach: a strong input pushes the seat into a stop where it may stick.

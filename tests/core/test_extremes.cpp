@@ -23,10 +23,15 @@ constexpr double kLorryRms = 0.35;  // m/s^2
 // bound on the way to Inf, so bounding x_r catches in a short run what Inf shows in a long one.
 constexpr double kTravelBound = 1.0;  // m
 
-const char* const kParameterNames[] = {
-    "mass_kg",          "stiffness_n_per_m", "damping_ns_per_m",          "kinetic_friction_n",
-    "static_friction_n", "stribeck_velocity_m_per_s", "smoothing_constant_s_per_m", "dt_s",
-    "model"};
+const char* const kParameterNames[] = {"mass_kg",
+                                       "stiffness_n_per_m",
+                                       "damping_ns_per_m",
+                                       "kinetic_friction_n",
+                                       "static_friction_n",
+                                       "stribeck_velocity_m_per_s",
+                                       "smoothing_constant_s_per_m",
+                                       "dt_s",
+                                       "model"};
 
 // The message starts with "<parameter>:" for one of the parameters of OscillatorParams.
 bool names_a_parameter(const char* message) {
@@ -52,8 +57,8 @@ std::vector<LawCase> all_law_cases() {
                                {FrictionModel::signum, SmoothingLaw::tanh, 1000.0},
                                {FrictionModel::stick_slip, SmoothingLaw::tanh, 1000.0},
                                {FrictionModel::stribeck, SmoothingLaw::tanh, 1000.0}};
-  for (SmoothingLaw s : {SmoothingLaw::atan, SmoothingLaw::tanh, SmoothingLaw::erf,
-                         SmoothingLaw::rational}) {
+  for (SmoothingLaw s :
+       {SmoothingLaw::atan, SmoothingLaw::tanh, SmoothingLaw::erf, SmoothingLaw::rational}) {
     for (double c : {1.0, 1e3, 1e6}) laws.push_back({FrictionModel::smooth, s, c});
   }
   return laws;
@@ -195,9 +200,9 @@ TEST(Extremes, EverySceneIsRefusedByNameOrRunsFinite) {
   GridTally tally;
   sweep_grid<double>("double", 3000, tally);
   sweep_grid<float>("float", 1000, tally);
-  CHECK_TEXT(tally.failures == 0,
-             StringFromFormat("%d failing scenes, the first ones:%s", tally.failures,
-                              tally.listed.asCharString()).asCharString());
+  CHECK_TEXT(tally.failures == 0, StringFromFormat("%d failing scenes, the first ones:%s",
+                                                   tally.failures, tally.listed.asCharString())
+                                      .asCharString());
   CHECK(tally.accepted > 1000);
   CHECK(tally.refused > 0);
   test::note_margin("grid scenes accepted", tally.accepted, 0.0);
@@ -223,7 +228,8 @@ TEST(Extremes, TenMillionStepRunsStayFinite) {
   };
   for (const LongScene& s : scenes) {
     OscillatorParams p = test::reference_params(s.model, s.integrator, 1e-5);
-    p.kinetic_friction_n = test::kinetic_friction_for_den_hartog(s.k_factor, test::kMassKg, kLorryRms);
+    p.kinetic_friction_n =
+        test::kinetic_friction_for_den_hartog(s.k_factor, test::kMassKg, kLorryRms);
     p.static_friction_n = 1.25 * p.kinetic_friction_n;
     p.smoothing_constant_s_per_m = 1e6;
     const RunVerdict v = s.in_float ? run_scene<float>(p, coarse, 10000000, 100)
@@ -250,9 +256,12 @@ TEST(Extremes, ExplicitSchemeBeyondStabilityLimitIsRefusedNamingTheLimit) {
   };
   const Case cases[] = {
       // c F_fk dt/m = 452: the smoothed law is a stiff damper for the explicit schemes.
-      {FrictionModel::smooth, Integrator::euler, test::kDampingNsPerM, 1e6, 1e-3, "smoothing_constant_s_per_m:"},
-      {FrictionModel::smooth, Integrator::symplectic, test::kDampingNsPerM, 1e6, 1e-3, "smoothing_constant_s_per_m:"},
-      {FrictionModel::smooth, Integrator::rk4, test::kDampingNsPerM, 1e6, 1e-3, "smoothing_constant_s_per_m:"},
+      {FrictionModel::smooth, Integrator::euler, test::kDampingNsPerM, 1e6, 1e-3,
+       "smoothing_constant_s_per_m:"},
+      {FrictionModel::smooth, Integrator::symplectic, test::kDampingNsPerM, 1e6, 1e-3,
+       "smoothing_constant_s_per_m:"},
+      {FrictionModel::smooth, Integrator::rk4, test::kDampingNsPerM, 1e6, 1e-3,
+       "smoothing_constant_s_per_m:"},
       // Euler beyond b/k = 43.8 ms for the damped seat.
       {FrictionModel::linear, Integrator::euler, test::kDampingNsPerM, 1e3, 0.05, "dt_s:"},
       // Symplectic beyond omega0 dt = 2, RK4 beyond omega0 dt = 2.83 (linear: no event limit).
@@ -312,10 +321,12 @@ TEST(Extremes, EulerWithoutDampingIsRefusedAtEveryStep) {
   for_each_undamped_euler_scene([&](const OscillatorParams& p, const ConfigResult& config) {
     const bool ok = !config.ok() && config.status == Status::unstable &&
                     names_a_parameter(config.message.c_str());
-    if (!ok && failed++ < 12) failures += SimpleString("\n\t  ") + describe("double", p) + ": accepted";
+    if (!ok && failed++ < 12)
+      failures += SimpleString("\n\t  ") + describe("double", p) + ": accepted";
   });
   CHECK_TEXT(failed == 0, StringFromFormat("%d undamped Euler scenes accepted:%s", failed,
-                                           failures.asCharString()).asCharString());
+                                           failures.asCharString())
+                              .asCharString());
 }
 
 // Where it is refused, the message must not quote a stability limit "dt < ...": there is none.
@@ -328,7 +339,8 @@ TEST(Extremes, EulerWithoutDampingRefusalQuotesNoStabilityLimit) {
       failures += SimpleString("\n\t  ") + describe("double", p) + ": " + config.message.c_str();
   });
   CHECK_TEXT(failed == 0, StringFromFormat("%d refusals quote a stability limit, e.g.:%s", failed,
-                                           failures.asCharString()).asCharString());
+                                           failures.asCharString())
+                              .asCharString());
 }
 
 // Bad parameters: refused with the right status and a message starting with the parameter name.
@@ -342,31 +354,60 @@ TEST(Extremes, BadParametersAreRefusedNamingTheParameter) {
     void (*mutate)(OscillatorParams&, double nan, double inf);
   };
   const Case cases[] = {
-      {"mass_kg:", Status::not_finite, FrictionModel::stick_slip, [](OscillatorParams& p, double n, double) { p.mass_kg = n; }},
-      {"mass_kg:", Status::out_of_range, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.mass_kg = -88.4; }},
-      {"mass_kg:", Status::out_of_range, FrictionModel::linear, [](OscillatorParams& p, double, double) { p.mass_kg = 0.0; }},
-      {"stiffness_n_per_m:", Status::out_of_range, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.stiffness_n_per_m = 0.0; }},
-      {"stiffness_n_per_m:", Status::not_finite, FrictionModel::linear, [](OscillatorParams& p, double, double i) { p.stiffness_n_per_m = i; }},
-      {"damping_ns_per_m:", Status::out_of_range, FrictionModel::signum, [](OscillatorParams& p, double, double) { p.damping_ns_per_m = -1.0; }},
-      {"damping_ns_per_m:", Status::not_finite, FrictionModel::signum, [](OscillatorParams& p, double n, double) { p.damping_ns_per_m = n; }},
-      {"kinetic_friction_n:", Status::out_of_range, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.kinetic_friction_n = -5.0; }},
-      {"kinetic_friction_n:", Status::not_finite, FrictionModel::smooth, [](OscillatorParams& p, double n, double) { p.kinetic_friction_n = n; }},
-      {"static_friction_n:", Status::static_below_kinetic, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.kinetic_friction_n = 40.0; p.static_friction_n = 39.9; }},
-      {"static_friction_n:", Status::static_below_kinetic, FrictionModel::stribeck, [](OscillatorParams& p, double, double) { p.kinetic_friction_n = 40.0; p.static_friction_n = 0.0; }},
-      {"static_friction_n:", Status::not_finite, FrictionModel::stick_slip, [](OscillatorParams& p, double, double i) { p.static_friction_n = -i; }},
-      {"stribeck_velocity_m_per_s:", Status::out_of_range, FrictionModel::stribeck, [](OscillatorParams& p, double, double) { p.stribeck_velocity_m_per_s = 0.0; }},
-      {"smoothing_constant_s_per_m:", Status::out_of_range, FrictionModel::smooth, [](OscillatorParams& p, double, double) { p.smoothing_constant_s_per_m = 0.0; }},
-      {"smoothing_constant_s_per_m:", Status::not_finite, FrictionModel::smooth, [](OscillatorParams& p, double n, double) { p.smoothing_constant_s_per_m = n; }},
-      {"dt_s:", Status::out_of_range, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.dt_s = 0.0; }},
-      {"dt_s:", Status::out_of_range, FrictionModel::linear, [](OscillatorParams& p, double, double) { p.dt_s = -1e-3; }},
-      {"dt_s:", Status::not_finite, FrictionModel::stick_slip, [](OscillatorParams& p, double n, double) { p.dt_s = n; }},
+      {"mass_kg:", Status::not_finite, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double n, double) { p.mass_kg = n; }},
+      {"mass_kg:", Status::out_of_range, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double, double) { p.mass_kg = -88.4; }},
+      {"mass_kg:", Status::out_of_range, FrictionModel::linear,
+       [](OscillatorParams& p, double, double) { p.mass_kg = 0.0; }},
+      {"stiffness_n_per_m:", Status::out_of_range, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double, double) { p.stiffness_n_per_m = 0.0; }},
+      {"stiffness_n_per_m:", Status::not_finite, FrictionModel::linear,
+       [](OscillatorParams& p, double, double i) { p.stiffness_n_per_m = i; }},
+      {"damping_ns_per_m:", Status::out_of_range, FrictionModel::signum,
+       [](OscillatorParams& p, double, double) { p.damping_ns_per_m = -1.0; }},
+      {"damping_ns_per_m:", Status::not_finite, FrictionModel::signum,
+       [](OscillatorParams& p, double n, double) { p.damping_ns_per_m = n; }},
+      {"kinetic_friction_n:", Status::out_of_range, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double, double) { p.kinetic_friction_n = -5.0; }},
+      {"kinetic_friction_n:", Status::not_finite, FrictionModel::smooth,
+       [](OscillatorParams& p, double n, double) { p.kinetic_friction_n = n; }},
+      {"static_friction_n:", Status::static_below_kinetic, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double, double) {
+         p.kinetic_friction_n = 40.0;
+         p.static_friction_n = 39.9;
+       }},
+      {"static_friction_n:", Status::static_below_kinetic, FrictionModel::stribeck,
+       [](OscillatorParams& p, double, double) {
+         p.kinetic_friction_n = 40.0;
+         p.static_friction_n = 0.0;
+       }},
+      {"static_friction_n:", Status::not_finite, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double, double i) { p.static_friction_n = -i; }},
+      {"stribeck_velocity_m_per_s:", Status::out_of_range, FrictionModel::stribeck,
+       [](OscillatorParams& p, double, double) { p.stribeck_velocity_m_per_s = 0.0; }},
+      {"smoothing_constant_s_per_m:", Status::out_of_range, FrictionModel::smooth,
+       [](OscillatorParams& p, double, double) { p.smoothing_constant_s_per_m = 0.0; }},
+      {"smoothing_constant_s_per_m:", Status::not_finite, FrictionModel::smooth,
+       [](OscillatorParams& p, double n, double) { p.smoothing_constant_s_per_m = n; }},
+      {"dt_s:", Status::out_of_range, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double, double) { p.dt_s = 0.0; }},
+      {"dt_s:", Status::out_of_range, FrictionModel::linear,
+       [](OscillatorParams& p, double, double) { p.dt_s = -1e-3; }},
+      {"dt_s:", Status::not_finite, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double n, double) { p.dt_s = n; }},
       // Denormal or tiny values reached the float step as 0 or infinity (found by fuzzing).
-      {"dt_s:", Status::out_of_range, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.dt_s = 3.4e-315; }},
-      {"stribeck_velocity_m_per_s:", Status::out_of_range, FrictionModel::stribeck, [](OscillatorParams& p, double, double) { p.stribeck_velocity_m_per_s = 1e-300; }},
-      {"mass_kg:", Status::out_of_range, FrictionModel::linear, [](OscillatorParams& p, double, double) { p.mass_kg = 1e-300; }},
-      {"stiffness_n_per_m:", Status::out_of_range, FrictionModel::signum, [](OscillatorParams& p, double, double) { p.stiffness_n_per_m = 1e-12; }},
+      {"dt_s:", Status::out_of_range, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double, double) { p.dt_s = 3.4e-315; }},
+      {"stribeck_velocity_m_per_s:", Status::out_of_range, FrictionModel::stribeck,
+       [](OscillatorParams& p, double, double) { p.stribeck_velocity_m_per_s = 1e-300; }},
+      {"mass_kg:", Status::out_of_range, FrictionModel::linear,
+       [](OscillatorParams& p, double, double) { p.mass_kg = 1e-300; }},
+      {"stiffness_n_per_m:", Status::out_of_range, FrictionModel::signum,
+       [](OscillatorParams& p, double, double) { p.stiffness_n_per_m = 1e-12; }},
       // The in-step event search needs omega0 dt <= pi/2 (dt <= 0.138 s here).
-      {"dt_s:", Status::out_of_range, FrictionModel::stick_slip, [](OscillatorParams& p, double, double) { p.dt_s = 0.2; }},
+      {"dt_s:", Status::out_of_range, FrictionModel::stick_slip,
+       [](OscillatorParams& p, double, double) { p.dt_s = 0.2; }},
   };
   for (const Case& c : cases) {
     OscillatorParams p = test::reference_params(c.model, Integrator::exact, 1e-3);
@@ -378,7 +419,8 @@ TEST(Extremes, BadParametersAreRefusedNamingTheParameter) {
       CHECK_TEXT(!config.ok(), c.parameter);
       CHECK_TEXT(config.status == c.status,
                  StringFromFormat("%s got status %s: %s", c.parameter, status_name(config.status),
-                                  config.message.c_str()).asCharString());
+                                  config.message.c_str())
+                     .asCharString());
       CHECK_TEXT(starts_with(config.message.c_str(), c.parameter), config.message.c_str());
       return 0;
     });
@@ -390,7 +432,8 @@ TEST(Extremes, BadParametersAreRefusedNamingTheParameter) {
   }
   // A law instantiated for another model refuses by naming "model".
   Oscillator<double, CoulombStickSlip> seat;
-  const auto config = seat.configure(test::reference_params(FrictionModel::linear, Integrator::exact, 1e-3));
+  const auto config =
+      seat.configure(test::reference_params(FrictionModel::linear, Integrator::exact, 1e-3));
   CHECK(config.status == Status::unsupported);
   CHECK_TEXT(starts_with(config.message.c_str(), "model:"), config.message.c_str());
 }
@@ -449,10 +492,12 @@ TEST(Extremes, UndampedSymplecticStickingRefusalSaysNoDtIsStable) {
       with_oscillator<double>(p, [&](auto& seat) {
         const auto config = seat.configure(p);
         CHECK(config.status == Status::unstable);
-        CHECK_TEXT(starts_with(config.message.c_str(), "damping_ns_per_m:"), config.message.c_str());
+        CHECK_TEXT(starts_with(config.message.c_str(), "damping_ns_per_m:"),
+                   config.message.c_str());
         STRCMP_CONTAINS("no dt is stable", config.message.c_str());
         STRCMP_CONTAINS("stability limit", config.message.c_str());
-        CHECK_TEXT(std::strstr(config.message.c_str(), "dt <= 0 s") == nullptr, config.message.c_str());
+        CHECK_TEXT(std::strstr(config.message.c_str(), "dt <= 0 s") == nullptr,
+                   config.message.c_str());
         // The whole message fits the fixed-capacity StatusMessage (ends with its advice).
         STRCMP_CONTAINS("or exact/rk4", config.message.c_str());
         return 0;
@@ -461,8 +506,9 @@ TEST(Extremes, UndampedSymplecticStickingRefusalSaysNoDtIsStable) {
   }
   // Lightly damped (ratio 0.05 < 0.25 (omega0 dt)^2 = 0.081 at 50 ms): the limit dt is quoted,
   // and that message fits too.
-  OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::symplectic, 0.05,
-                                              0.05 * 2.0 * std::sqrt(test::kStiffnessNPerM * test::kMassKg));
+  OscillatorParams p =
+      test::reference_params(FrictionModel::stick_slip, Integrator::symplectic, 0.05,
+                             0.05 * 2.0 * std::sqrt(test::kStiffnessNPerM * test::kMassKg));
   p.kinetic_friction_n = p.static_friction_n = 40.0;
   Oscillator<double, CoulombStickSlip> seat;
   const auto config = seat.configure(p);
@@ -474,7 +520,8 @@ TEST(Extremes, UndampedSymplecticStickingRefusalSaysNoDtIsStable) {
 // The refusal of a subnormal value quotes it: the message formatter once divided by 10^-324 = 0
 // (UBSan: NaN converted to int; found by fuzzing configure()).
 TEST(Extremes, RefusalQuotesSubnormalValues) {
-  OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::exact, 4.9406564584124654e-324);
+  OscillatorParams p =
+      test::reference_params(FrictionModel::stick_slip, Integrator::exact, 4.9406564584124654e-324);
   Oscillator<double, CoulombStickSlip> seat;
   const auto config = seat.configure(p);
   CHECK(config.status == Status::out_of_range);

@@ -30,22 +30,25 @@ std::int64_t reference_product(std::int64_t a, std::int64_t b) {
   return static_cast<std::int64_t>(p < 0 ? -q : q);
 }
 
-bool contains(const char* text, const char* part) { return std::strstr(text, part) != nullptr; }
+bool contains(const char* text, const char* part) {
+  return std::strstr(text, part) != nullptr;
+}
 bool starts_with(const char* text, const char* prefix) {
   return std::strncmp(text, prefix, std::strlen(prefix)) == 0;
 }
 
 }  // namespace
 
-TEST_GROUP(FixedPointArithmetic) {
-  void setup() override { (void)take_fixed_point_saturation(); }
-};
+TEST_GROUP(FixedPointArithmetic){void setup() override{(void)take_fixed_point_saturation();
+}
+}
+;
 
 TEST(FixedPointArithmetic, ProductRoundsToNearestTiesAwayFromZero) {
   const Fixed half(0.5), quarter(0.25);
-  LONGS_EQUAL(2, (Fixed::from_raw(3) * half).raw());    // 1.5 ulp -> 2
-  LONGS_EQUAL(-2, (Fixed::from_raw(-3) * half).raw());  // symmetric
-  LONGS_EQUAL(1, (Fixed::from_raw(1) * half).raw());    // 0.5 -> 1
+  LONGS_EQUAL(2, (Fixed::from_raw(3) * half).raw());     // 1.5 ulp -> 2
+  LONGS_EQUAL(-2, (Fixed::from_raw(-3) * half).raw());   // symmetric
+  LONGS_EQUAL(1, (Fixed::from_raw(1) * half).raw());     // 0.5 -> 1
   LONGS_EQUAL(1, (Fixed::from_raw(5) * quarter).raw());  // 1.25 -> 1
   LONGS_EQUAL(2, (Fixed::from_raw(7) * quarter).raw());  // 1.75 -> 2
   LONGS_EQUAL(0, (Fixed::from_raw(1) * quarter).raw());  // 0.25 -> 0
@@ -113,9 +116,9 @@ TEST(FixedPointArithmetic, OverflowSaturatesAndSetsTheStickyFlag) {
 }
 
 TEST(FixedPointArithmetic, ConversionsRoundToNearest) {
-  LONGS_EQUAL(1, Fixed(0.6 / 1099511627776.0).raw());    // 0.6 ulp -> 1
+  LONGS_EQUAL(1, Fixed(0.6 / 1099511627776.0).raw());  // 0.6 ulp -> 1
   LONGS_EQUAL(-1, Fixed(-0.6 / 1099511627776.0).raw());
-  LONGS_EQUAL(1, Fixed(0.5 / 1099511627776.0).raw());    // tie away from zero
+  LONGS_EQUAL(1, Fixed(0.5 / 1099511627776.0).raw());  // tie away from zero
   LONGS_EQUAL(0, Fixed(0.4 / 1099511627776.0).raw());
   DOUBLES_EQUAL(88.4, Fixed(88.4).to_double(), 1e-12);
   LONGS_EQUAL(3u, static_cast<unsigned>(Fixed(3.99)));
@@ -127,8 +130,10 @@ TEST(FixedPointArithmetic, QuotientWithinTwoToTheMinus29) {
   test::SplitMix64 random(11);
   double worst = 0.0;
   for (int i = 0; i < 20000; ++i) {
-    const double a = random.uniform(-1.0, 1.0) * std::ldexp(1.0, static_cast<int>(random.next() % 30) - 20);
-    const double b = random.uniform(-1.0, 1.0) * std::ldexp(1.0, static_cast<int>(random.next() % 30) - 20);
+    const double a =
+        random.uniform(-1.0, 1.0) * std::ldexp(1.0, static_cast<int>(random.next() % 30) - 20);
+    const double b =
+        random.uniform(-1.0, 1.0) * std::ldexp(1.0, static_cast<int>(random.next() % 30) - 20);
     const Fixed fa(a), fb(b);
     if (fb.raw() == 0) continue;
     const double exact = fa.to_double() / fb.to_double();
@@ -138,7 +143,8 @@ TEST(FixedPointArithmetic, QuotientWithinTwoToTheMinus29) {
     const double allowed = std::ldexp(std::fabs(exact), -29) + Fixed::resolution();
     if (error > allowed) {
       FAIL(StringFromFormat("%.17g / %.17g = %.17g, got %.17g", fa.to_double(), fb.to_double(),
-                            exact, got).asCharString());
+                            exact, got)
+               .asCharString());
     }
     const double relative = std::fabs(exact) > 1e-3 ? error / std::fabs(exact) : 0.0;
     if (relative > worst) worst = relative;
@@ -189,9 +195,10 @@ Comparison compare_with_double(const OscillatorParams& params, const std::vector
 
 }  // namespace
 
-TEST_GROUP(FixedPointOscillator) {
-  void setup() override { (void)take_fixed_point_saturation(); }
-};
+TEST_GROUP(FixedPointOscillator){void setup() override{(void)take_fixed_point_saturation();
+}
+}
+;
 
 // 30 s of the lorry-like scene at dt = 1 ms, K = 1.3: the targets of the issue (T_ax within 1 %,
 // p within 0.01, no saturation) with a wide margin, exact and symplectic.
@@ -202,8 +209,7 @@ TEST(FixedPointOscillator, StickSlipAgreesWithDoubleOnTheLorryScene) {
     p.kinetic_friction_n = test::kinetic_friction_for_den_hartog(1.3, test::kMassKg, 0.35);
     p.static_friction_n = 1.25 * p.kinetic_friction_n;
     const Comparison c = compare_with_double<CoulombStickSlip>(p, a_u);
-    const double t_error =
-        std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0);
+    const double t_error = std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0);
     test::note_margin("fixed vs double T_ax relative error", t_error, 0.01);
     test::note_margin("fixed vs double p absolute error", std::fabs(c.stick_fixed - c.stick_double),
                       0.01);
@@ -268,10 +274,10 @@ TEST(FixedPointOscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuantity) {
   const Case cases[] = {
       {[](OscillatorParams& p) { p.stiffness_n_per_m = 5e6; }, "stiffness_n_per_m:", "stiffness"},
       {[](OscillatorParams& p) { p.dt_s = 2e-5; }, "dt_s:", "precision of the fixed-point scalar"},
-      {[](OscillatorParams& p) { p.input_range_m_per_s2 = 1e5; }, "input_range_m_per_s2:",
-       "input force m*a_u"},
-      {[](OscillatorParams& p) { p.displacement_range_m = 300.0; }, "displacement_range_m:",
-       "spring force"},
+      {[](OscillatorParams& p) { p.input_range_m_per_s2 = 1e5; },
+       "input_range_m_per_s2:", "input force m*a_u"},
+      {[](OscillatorParams& p) { p.displacement_range_m = 300.0; },
+       "displacement_range_m:", "spring force"},
       {[](OscillatorParams& p) { p.input_range_m_per_s2 = -1.0; }, "input_range_m_per_s2:", "> 0"},
       {[](OscillatorParams& p) { p.model = FrictionModel::stribeck; }, "model:", "exp"},
       {[](OscillatorParams& p) { p.integrator = Integrator::rk4; }, "integrator:", "rk4"},
@@ -307,15 +313,16 @@ TEST(FixedPointOscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuantity) {
 // NaN-equivalent garbage").
 TEST(FixedPointOscillator, ExtremesAreRefusedByNameOrRunWithoutSaturation) {
   test::ExtremeTally tally;
-  test::for_each_extreme_scene(50.0, 1.0, [&](const OscillatorParams& p,
-                                              const std::vector<double>& a_u, auto law) {
-    Oscillator<Fixed, typename decltype(law)::type> seat;
-    test::run_extreme(
-        seat, p, a_u, 1.0, tally, [](auto& s) -> auto& { return s; },
-        [](auto&, double a) { return Fixed(a); }, [](auto&, Fixed x) { return x.to_double(); });
-  });
-  CHECK_TEXT(tally.failures == 0, StringFromFormat("%d failing scenes:%s", tally.failures,
-                                                   tally.listed.asCharString()).asCharString());
+  test::for_each_extreme_scene(
+      50.0, 1.0, [&](const OscillatorParams& p, const std::vector<double>& a_u, auto law) {
+        Oscillator<Fixed, typename decltype(law)::type> seat;
+        test::run_extreme(
+            seat, p, a_u, 1.0, tally, [](auto& s) -> auto& { return s; },
+            [](auto&, double a) { return Fixed(a); }, [](auto&, Fixed x) { return x.to_double(); });
+      });
+  CHECK_TEXT(tally.failures == 0,
+             StringFromFormat("%d failing scenes:%s", tally.failures, tally.listed.asCharString())
+                 .asCharString());
   CHECK(tally.accepted > 100);
   CHECK(tally.refused > 0);
   test::note_margin("fixed grid scenes accepted", tally.accepted, 0.0);

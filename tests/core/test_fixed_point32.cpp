@@ -47,7 +47,9 @@ struct Bits {
   }
 };
 
-bool contains(const char* text, const char* part) { return std::strstr(text, part) != nullptr; }
+bool contains(const char* text, const char* part) {
+  return std::strstr(text, part) != nullptr;
+}
 bool starts_with(const char* text, const char* prefix) {
   return std::strncmp(text, prefix, std::strlen(prefix)) == 0;
 }
@@ -62,9 +64,10 @@ OscillatorParams firmware_params(FrictionModel model, Integrator integrator) {
 
 }  // namespace
 
-TEST_GROUP(FixedPoint32Arithmetic) {
-  void setup() override { (void)take_fixed_point_saturation(); }
-};
+TEST_GROUP(FixedPoint32Arithmetic){void setup() override{(void)take_fixed_point_saturation();
+}
+}
+;
 
 TEST(FixedPoint32Arithmetic, ProductEqualsTheRoundedExactProduct) {
   Bits bits;
@@ -78,7 +81,8 @@ TEST(FixedPoint32Arithmetic, ProductEqualsTheRoundedExactProduct) {
     if (fits) {
       if (got.raw() != exact || flagged) {
         FAIL(StringFromFormat("%d * %d: got %d, exact %lld, flag %d", a, b, got.raw(),
-                              static_cast<long long>(exact), flagged ? 1 : 0).asCharString());
+                              static_cast<long long>(exact), flagged ? 1 : 0)
+                 .asCharString());
       }
     } else {
       ++saturated;
@@ -141,7 +145,8 @@ TEST(FixedPoint32Arithmetic, ProportionIsTheRoundedQuotientWithoutADivision) {
   for (int i = 0; i < 100000; ++i) {
     std::int32_t n = bits.raw(), d = bits.raw();
     if (d == 0) continue;
-    const Fixed32 got = ScalarTraits<Fixed32>::proportion(Fixed32::from_raw(n), Fixed32::from_raw(d));
+    const Fixed32 got =
+        ScalarTraits<Fixed32>::proportion(Fixed32::from_raw(n), Fixed32::from_raw(d));
     std::int64_t expected = 0;
     if (n != 0 && (n < 0) == (d < 0)) {
       const std::int64_t un = n < 0 ? -std::int64_t{n} : n, ud = d < 0 ? -std::int64_t{d} : d;
@@ -149,7 +154,8 @@ TEST(FixedPoint32Arithmetic, ProportionIsTheRoundedQuotientWithoutADivision) {
     }
     if (got.raw() != expected) {
       FAIL(StringFromFormat("proportion(%d, %d) = %d, expected %lld", n, d, got.raw(),
-                            static_cast<long long>(expected)).asCharString());
+                            static_cast<long long>(expected))
+               .asCharString());
     }
   }
   // Q23.40: against the 128-bit quotient.
@@ -171,7 +177,7 @@ TEST(FixedPoint32Arithmetic, CountScaleConvertsWithinTheFactorsPrecision) {
   CountScale<Fixed32> in, out;
   CHECK_TRUE(in.set_count_to_scalar(factor));
   CHECK_TRUE(out.set_scalar_to_count(1.0 / factor));
-  CHECK_FALSE(in.set_count_to_scalar(2.0));   // would need a left shift
+  CHECK_FALSE(in.set_count_to_scalar(2.0));  // would need a left shift
   CHECK_FALSE(in.set_count_to_scalar(-1.0));
   double worst = 0.0;
   for (std::int32_t count = -32768; count <= 32767; count += 7) {
@@ -181,7 +187,8 @@ TEST(FixedPoint32Arithmetic, CountScaleConvertsWithinTheFactorsPrecision) {
     const std::int32_t back = out.to_count(in.to_scalar(count), 32767);
     CHECK(std::abs(back - count) <= 1);
   }
-  test::note_margin("count -> Q7.24 error, ulp", worst, 0.5 + 32768 * factor * Fixed32::kScale * 0x1p-24);
+  test::note_margin("count -> Q7.24 error, ulp", worst,
+                    0.5 + 32768 * factor * Fixed32::kScale * 0x1p-24);
   CHECK(worst <= 0.5 + 32768 * factor * Fixed32::kScale * 0x1p-24);
   LONGS_EQUAL(32767, out.to_count(Fixed32(100), 32767));
   LONGS_EQUAL(-32767, out.to_count(Fixed32(-100), 32767));
@@ -234,9 +241,10 @@ Comparison compare_with_double(const OscillatorParams& params, const std::vector
 
 }  // namespace
 
-TEST_GROUP(ScaledFixedPoint32Oscillator) {
-  void setup() override { (void)take_fixed_point_saturation(); }
-};
+TEST_GROUP(ScaledFixedPoint32Oscillator){void setup() override{(void)take_fixed_point_saturation();
+}
+}
+;
 
 // 30 s of the lorry-like scene at dt = 1 ms, K = 1.3, with the firmware's ranges: the issue's
 // targets (T_ax within 1 %, p within 0.01, no saturation) with a wide margin, exact and symplectic.
@@ -346,16 +354,18 @@ TEST(ScaledFixedPoint32Oscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuant
 // range and a 1 m stroke: refused by name, or run without saturation and bounded.
 TEST(ScaledFixedPoint32Oscillator, ExtremesAreRefusedByNameOrRunWithoutSaturation) {
   test::ExtremeTally tally;
-  test::for_each_extreme_scene(32.768, 1.0, [&](const OscillatorParams& p,
-                                                const std::vector<double>& a_u, auto law) {
-    ScaledOscillator<Fixed32, typename decltype(law)::type> seat;
-    test::run_extreme(
-        seat, p, a_u, p.displacement_range_m, tally, [](auto& s) -> auto& { return s.oscillator(); },
-        [](auto& s, double a) { return s.acceleration(a); },
-        [](auto& s, Fixed32 x) { return s.to_si_displacement(x); });
-  });
-  CHECK_TEXT(tally.failures == 0, StringFromFormat("%d failing scenes:%s", tally.failures,
-                                                   tally.listed.asCharString()).asCharString());
+  test::for_each_extreme_scene(
+      32.768, 1.0, [&](const OscillatorParams& p, const std::vector<double>& a_u, auto law) {
+        ScaledOscillator<Fixed32, typename decltype(law)::type> seat;
+        test::run_extreme(
+            seat, p, a_u, p.displacement_range_m, tally,
+            [](auto& s) -> auto& { return s.oscillator(); },
+            [](auto& s, double a) { return s.acceleration(a); },
+            [](auto& s, Fixed32 x) { return s.to_si_displacement(x); });
+      });
+  CHECK_TEXT(tally.failures == 0,
+             StringFromFormat("%d failing scenes:%s", tally.failures, tally.listed.asCharString())
+                 .asCharString());
   CHECK(tally.accepted > 100);
   CHECK(tally.refused > 0);
   test::note_margin("fixed32 grid scenes accepted", tally.accepted, 0.0);

@@ -33,11 +33,11 @@ struct FrfErrors {
 FrfErrors run_sine(double frequency_hz, double dt_s, double damping, double x0, double v0,
                    double settle_s, double window_s) {
   const double w = 2.0 * kPi * frequency_hz;
-  const auto oracle = test::foh_phasor_response(test::kMassKg, damping, test::kStiffnessNPerM, w,
-                                                dt_s);
+  const auto oracle =
+      test::foh_phasor_response(test::kMassKg, damping, test::kStiffnessNPerM, w, dt_s);
   Oscillator<double, NoFriction> seat;
-  const auto config = seat.configure(test::reference_params(FrictionModel::linear,
-                                                            Integrator::exact, dt_s, damping));
+  const auto config = seat.configure(
+      test::reference_params(FrictionModel::linear, Integrator::exact, dt_s, damping));
   CHECK_TEXT(config.ok(), config.message.c_str());
   seat.reset(x0, v0, 0.0);  // a_u[0] = sin(0) = 0
 
@@ -75,15 +75,20 @@ void check_within_tolerance(const FrfErrors& e, double frequency_hz, double dt_s
   const SimpleString where = StringFromFormat("f = %g Hz, dt = %g s", frequency_hz, dt_s);
   CHECK_TEXT(e.complex_amplitude < kFrfTolerance,
              StringFromFormat("%s: complex amplitude rel. error %.3e", where.asCharString(),
-                              e.complex_amplitude).asCharString());
+                              e.complex_amplitude)
+                 .asCharString());
   CHECK_TEXT(e.amplitude < kFrfTolerance,
-             StringFromFormat("%s: amplitude rel. error %.3e", where.asCharString(), e.amplitude).asCharString());
+             StringFromFormat("%s: amplitude rel. error %.3e", where.asCharString(), e.amplitude)
+                 .asCharString());
   CHECK_TEXT(e.phase_rad < kFrfTolerance,
-             StringFromFormat("%s: phase error %.3e rad", where.asCharString(), e.phase_rad).asCharString());
+             StringFromFormat("%s: phase error %.3e rad", where.asCharString(), e.phase_rad)
+                 .asCharString());
   CHECK_TEXT(e.pointwise_x < kFrfTolerance,
-             StringFromFormat("%s: pointwise x error %.3e", where.asCharString(), e.pointwise_x).asCharString());
+             StringFromFormat("%s: pointwise x error %.3e", where.asCharString(), e.pointwise_x)
+                 .asCharString());
   CHECK_TEXT(e.pointwise_v < kFrfTolerance,
-             StringFromFormat("%s: pointwise v error %.3e", where.asCharString(), e.pointwise_v).asCharString());
+             StringFromFormat("%s: pointwise v error %.3e", where.asCharString(), e.pointwise_v)
+                 .asCharString());
 }
 
 double worst(const FrfErrors& e) {
@@ -115,10 +120,10 @@ TEST(LinearFrequencyResponse, DampedSteadyStateMatchesSampledFrfAmplitudeAndPhas
 // steady state, so matching the latter to 1e-9 proves the integrator applies the FOH input exactly.
 TEST(LinearFrequencyResponse, SteadyStateFollowsTheFirstOrderHoldNotTheContinuousFrf) {
   const double w = 2.0 * kPi * 20.0, dt = 1e-3;
-  const auto oracle = test::foh_phasor_response(test::kMassKg, test::kDampingNsPerM,
-                                                test::kStiffnessNPerM, w, dt);
-  const auto continuous = test::seat_frf(test::kMassKg, test::kDampingNsPerM,
-                                         test::kStiffnessNPerM, w);
+  const auto oracle =
+      test::foh_phasor_response(test::kMassKg, test::kDampingNsPerM, test::kStiffnessNPerM, w, dt);
+  const auto continuous =
+      test::seat_frf(test::kMassKg, test::kDampingNsPerM, test::kStiffnessNPerM, w);
   CHECK(std::abs(oracle.x_m - continuous) > 1e-4 * std::abs(continuous));
   const FrfErrors e = run_sine(20.0, dt, test::kDampingNsPerM, 0.0, 0.0, 14.0, 2.0);
   check_within_tolerance(e, 20.0, dt);
@@ -133,8 +138,8 @@ TEST(LinearFrequencyResponse, UndampedStartOnSteadyStateStaysOnIt) {
   for (double dt : steps_s) {
     for (double f : frequencies_hz) {
       const double w = 2.0 * kPi * f;
-      const auto oracle = test::foh_phasor_response(test::kMassKg, 0.0, test::kStiffnessNPerM, w,
-                                                    dt);
+      const auto oracle =
+          test::foh_phasor_response(test::kMassKg, 0.0, test::kStiffnessNPerM, w, dt);
       // At t = 0 the steady state is Im(S) (theta = 0).
       const FrfErrors e = run_sine(f, dt, 0.0, oracle.x_m.imag(), oracle.v_m_per_s.imag(), 0.0,
                                    std::max(6.0, 2.0 / f));

@@ -57,8 +57,10 @@ TEST(RunningStatistics, FloatStatisticsStayAccurateOverTenMillionSamples) {
   const double u_error = std::fabs(stats.rms_u() / static_cast<double>(u) - 1.0);
   const double x_error = std::fabs(stats.rms_x() / static_cast<double>(x) - 1.0);
   const double p_error = std::fabs(stats.stick_probability() / static_cast<double>(0.37f) - 1.0);
-  CHECK_TEXT(u_error < 0.5 * bound, StringFromFormat("rms_u rel. error %.3e", u_error).asCharString());
-  CHECK_TEXT(x_error < 0.5 * bound, StringFromFormat("rms_x rel. error %.3e", x_error).asCharString());
+  CHECK_TEXT(u_error < 0.5 * bound,
+             StringFromFormat("rms_u rel. error %.3e", u_error).asCharString());
+  CHECK_TEXT(x_error < 0.5 * bound,
+             StringFromFormat("rms_x rel. error %.3e", x_error).asCharString());
   CHECK_TEXT(p_error < bound, StringFromFormat("p rel. error %.3e", p_error).asCharString());
   test::note_margin("float 1e7-sample rms_u rel. error", u_error, 0.5 * bound);
   test::note_margin("float 1e7-sample p rel. error", p_error, bound);
@@ -86,9 +88,10 @@ TEST_GROUP(DenHartog){};
 TEST(DenHartog, FactorIsTheClosedForm) {
   const double k = den_hartog_factor(35.0, test::kMassKg, 0.35);
   DOUBLES_EQUAL(4.0 * 35.0 / (kPi * std::sqrt(2.0) * test::kMassKg * 0.35), k, 1e-15);
-  DOUBLES_EQUAL(1.0, den_hartog_factor(test::kinetic_friction_for_den_hartog(1.0, 70.0, 0.5), 70.0, 0.5),
+  DOUBLES_EQUAL(1.0,
+                den_hartog_factor(test::kinetic_friction_for_den_hartog(1.0, 70.0, 0.5), 70.0, 0.5),
                 1e-15);
-  CHECK_EQUAL(0.0, den_hartog_factor(0.0, test::kMassKg, 0.35));  // no friction
+  CHECK_EQUAL(0.0, den_hartog_factor(0.0, test::kMassKg, 0.35));   // no friction
   CHECK(std::isinf(den_hartog_factor(35.0, test::kMassKg, 0.0)));  // friction, no input
 }
 

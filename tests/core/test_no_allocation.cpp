@@ -64,7 +64,8 @@ Activity run_counted(const OscillatorParams& params, const std::vector<T>& input
   const auto seen = test::stop_counting_allocations();
   // Known core issue, proven by StickSlip.FloatStribeckBreakAwayRaisesNoUnderflow: the float
   // Stribeck law can underflow at break-away. Cleared so that this test judges allocations only.
-  if (sizeof(T) == sizeof(float) && Law::model == FrictionModel::stribeck) std::feclearexcept(FE_UNDERFLOW);
+  if (sizeof(T) == sizeof(float) && Law::model == FrictionModel::stribeck)
+    std::feclearexcept(FE_UNDERFLOW);
   return {seen.calls, events, stuck_steps, configured};
 }
 
@@ -75,27 +76,35 @@ void check_every_law() {
                                     Integrator::exact};
   for (Integrator integrator : integrators) {
     const char* name = integrator_name(integrator);
-    Activity a = run_counted<T, NoFriction>(scene(FrictionModel::linear, SmoothingLaw::tanh, integrator), input);
+    Activity a = run_counted<T, NoFriction>(
+        scene(FrictionModel::linear, SmoothingLaw::tanh, integrator), input);
     CHECK_TEXT(a.configured, name);
     UNSIGNED_LONGS_EQUAL_TEXT(0, a.allocations, name);
-    a = run_counted<T, SignumFriction>(scene(FrictionModel::signum, SmoothingLaw::tanh, integrator), input);
+    a = run_counted<T, SignumFriction>(scene(FrictionModel::signum, SmoothingLaw::tanh, integrator),
+                                       input);
     CHECK_TEXT(a.configured, name);
     UNSIGNED_LONGS_EQUAL_TEXT(0, a.allocations, name);
     if (integrator == Integrator::exact) CHECK(a.events > 0);  // sign changes located
-    a = run_counted<T, SmoothFriction<SmoothingLaw::atan>>(scene(FrictionModel::smooth, SmoothingLaw::atan, integrator), input);
+    a = run_counted<T, SmoothFriction<SmoothingLaw::atan>>(
+        scene(FrictionModel::smooth, SmoothingLaw::atan, integrator), input);
     UNSIGNED_LONGS_EQUAL_TEXT(0, a.allocations, name);
-    a = run_counted<T, SmoothFriction<SmoothingLaw::tanh>>(scene(FrictionModel::smooth, SmoothingLaw::tanh, integrator), input);
+    a = run_counted<T, SmoothFriction<SmoothingLaw::tanh>>(
+        scene(FrictionModel::smooth, SmoothingLaw::tanh, integrator), input);
     UNSIGNED_LONGS_EQUAL_TEXT(0, a.allocations, name);
-    a = run_counted<T, SmoothFriction<SmoothingLaw::erf>>(scene(FrictionModel::smooth, SmoothingLaw::erf, integrator), input);
+    a = run_counted<T, SmoothFriction<SmoothingLaw::erf>>(
+        scene(FrictionModel::smooth, SmoothingLaw::erf, integrator), input);
     UNSIGNED_LONGS_EQUAL_TEXT(0, a.allocations, name);
-    a = run_counted<T, SmoothFriction<SmoothingLaw::rational>>(scene(FrictionModel::smooth, SmoothingLaw::rational, integrator), input);
+    a = run_counted<T, SmoothFriction<SmoothingLaw::rational>>(
+        scene(FrictionModel::smooth, SmoothingLaw::rational, integrator), input);
     CHECK_TEXT(a.configured, name);
     UNSIGNED_LONGS_EQUAL_TEXT(0, a.allocations, name);
-    a = run_counted<T, CoulombStickSlip>(scene(FrictionModel::stick_slip, SmoothingLaw::tanh, integrator), input);
+    a = run_counted<T, CoulombStickSlip>(
+        scene(FrictionModel::stick_slip, SmoothingLaw::tanh, integrator), input);
     CHECK_TEXT(a.configured, name);
     UNSIGNED_LONGS_EQUAL_TEXT(0, a.allocations, name);
     CHECK(a.events > 100 && a.stuck_steps > 1000);  // stick and slip both exercised
-    a = run_counted<T, StribeckStickSlip>(scene(FrictionModel::stribeck, SmoothingLaw::tanh, integrator), input);
+    a = run_counted<T, StribeckStickSlip>(
+        scene(FrictionModel::stribeck, SmoothingLaw::tanh, integrator), input);
     CHECK_TEXT(a.configured, name);
     UNSIGNED_LONGS_EQUAL_TEXT(0, a.allocations, name);
     CHECK(a.events > 100 && a.stuck_steps > 1000);
@@ -106,15 +115,20 @@ void check_every_law() {
 
 TEST_GROUP(NoAllocation){};
 
-TEST(NoAllocation, EveryLawInDoubleRunsWithoutHeap) { check_every_law<double>(); }
+TEST(NoAllocation, EveryLawInDoubleRunsWithoutHeap) {
+  check_every_law<double>();
+}
 
-TEST(NoAllocation, EveryLawInFloatRunsWithoutHeap) { check_every_law<float>(); }
+TEST(NoAllocation, EveryLawInFloatRunsWithoutHeap) {
+  check_every_law<float>();
+}
 
 // The run-time dispatch resolves the law and runs it without the heap (no std::function, no new).
 TEST(NoAllocation, DispatchAllocatesNothing) {
   const std::vector<double> input = lorry_input<double>();
-  const FrictionModel models[] = {FrictionModel::linear, FrictionModel::signum, FrictionModel::smooth,
-                                  FrictionModel::stick_slip, FrictionModel::stribeck};
+  const FrictionModel models[] = {FrictionModel::linear, FrictionModel::signum,
+                                  FrictionModel::smooth, FrictionModel::stick_slip,
+                                  FrictionModel::stribeck};
   for (FrictionModel model : models) {
     const OscillatorParams p = scene(model, SmoothingLaw::erf, Integrator::exact);
     test::start_counting_allocations();

@@ -34,7 +34,8 @@ std::vector<double> lorry(std::size_t count, double rms = 0.35, std::uint64_t se
 
 TEST_GROUP(Observer){};
 
-// The observer's estimate is the model's step, bit for bit: it adds figures, never changes the state.
+// The observer's estimate is the model's step, bit for bit: it adds figures, never changes the
+// state.
 TEST(Observer, EstimateIsTheModelStepBitForBit) {
   const std::vector<double> a = lorry(20001);
   static Observer<double, CoulombStickSlip> observer;
@@ -104,7 +105,7 @@ TEST(Observer, WindowFiguresEqualARecomputationOverTheLastWindow) {
 TEST(Observer, RegimeFollowsTheRoadWithoutFlicker) {
   static Observer<double, CoulombStickSlip> observer;
   CHECK_TRUE(observer.configure(observer_params(20.0)).ok());
-  const std::vector<double> rough = lorry(20001, 1.2, 3);   // K = 4*20/(pi sqrt2 88.4 1.2) ~ 0.17
+  const std::vector<double> rough = lorry(20001, 1.2, 3);    // K = 4*20/(pi sqrt2 88.4 1.2) ~ 0.17
   const std::vector<double> smooth = lorry(20001, 0.15, 4);  // K ~ 1.36
   observer.reset(rough[0]);
   for (std::size_t n = 1; n < rough.size(); ++n) observer.update(rough[n]);

@@ -112,7 +112,8 @@ TEST(Passivity, ExactIntegratorNeverGainsEnergyWithAnyFrictionLaw) {
         CHECK_TEXT(t.configured, law.name);
         CHECK_TEXT(t.max_rise_per_step <= kRoundingTolerance,
                    StringFromFormat("%s dt = %g x0 = %g v0 = %g: energy rose by %.3e E0 in a step",
-                                    law.name, dt, x0, v0, t.max_rise_per_step).asCharString());
+                                    law.name, dt, x0, v0, t.max_rise_per_step)
+                       .asCharString());
         worst_rise = std::max(worst_rise, t.max_rise_per_step);
         if (law.model != FrictionModel::linear || law.damping_ns_per_m > 0.0) {
           CHECK_TEXT(t.final_ratio < 1.0, law.name);  // and it does dissipate
@@ -126,8 +127,8 @@ TEST(Passivity, ExactIntegratorNeverGainsEnergyWithAnyFrictionLaw) {
 // b = 0 and no friction: the exact integrator conserves E (to rounding) rather than merely not
 // gaining it; guards against a trivially dissipative "exact" map.
 TEST(Passivity, ExactUndampedLinearSeatConservesEnergy) {
-  const EnergyTrace t = trace_energy(law_params(kLaws[1], Integrator::exact, 1e-3), 0.03, 0.1,
-                                     100000);
+  const EnergyTrace t =
+      trace_energy(law_params(kLaws[1], Integrator::exact, 1e-3), 0.03, 0.1, 100000);
   DOUBLES_EQUAL(1.0, t.final_ratio, 1e-10);
   DOUBLES_EQUAL(1.0, t.max_ratio, 1e-10);
 }
@@ -145,8 +146,8 @@ TEST(Passivity, DampedSymplecticAndRk4StayWithinOnePercentOfInitialEnergy) {
         for (int trial = 0; trial < 5; ++trial) {
           double x0 = 0.5, v0 = 1.0;
           if (trial > 0) random_state(random, x0, v0);
-          const EnergyTrace t = trace_energy(law_params(law, integrator, dt), x0, v0,
-                                             std::lround(20.0 / dt));
+          const EnergyTrace t =
+              trace_energy(law_params(law, integrator, dt), x0, v0, std::lround(20.0 / dt));
           if (!t.configured) continue;  // e.g. a stiff smoothed law at 10 ms
           ++accepted;
           CHECK_TEXT(t.max_ratio <= 1.01,
@@ -198,7 +199,8 @@ TEST(Passivity, UndampedSymplecticAndRk4StayBounded) {
         p.kinetic_friction_n = law.kinetic_n;
         p.static_friction_n = law.static_n;
         p.smoothing_constant_s_per_m = 100.0;
-        const bool sticking = law.model == FrictionModel::stick_slip || law.model == FrictionModel::stribeck;
+        const bool sticking =
+            law.model == FrictionModel::stick_slip || law.model == FrictionModel::stribeck;
         if (integrator == Integrator::symplectic && sticking) {
           // Restarting the staggered scheme at reversals pumps energy with nothing to absorb it:
           // configure() refuses this combination without damping, naming damping and the limit.
@@ -211,15 +213,18 @@ TEST(Passivity, UndampedSymplecticAndRk4StayBounded) {
         }
         const EnergyTrace t = trace_energy(p, 0.5, 0.0, std::lround(40.0 / dt));
         CHECK_TEXT(t.configured, law.name);
-        if (integrator == Integrator::symplectic) worst_symplectic = std::max(worst_symplectic, t.max_ratio / bound);
+        if (integrator == Integrator::symplectic)
+          worst_symplectic = std::max(worst_symplectic, t.max_ratio / bound);
         if (!(t.max_ratio <= bound) && failed++ < 16)
-          failures += StringFromFormat("\n\t  %s %s dt = %g: E reached %.4g E0 (bound %.4g)", law.name,
-                                       integrator_name(integrator), dt, t.max_ratio, bound);
+          failures +=
+              StringFromFormat("\n\t  %s %s dt = %g: E reached %.4g E0 (bound %.4g)", law.name,
+                               integrator_name(integrator), dt, t.max_ratio, bound);
       }
     }
   }
   CHECK_TEXT(failed == 0, StringFromFormat("%d undamped scenes gained energy:%s", failed,
-                                           failures.asCharString()).asCharString());
+                                           failures.asCharString())
+                              .asCharString());
   test::note_margin("undamped symplectic max E / bound", worst_symplectic, 1.0);
 }
 
@@ -237,8 +242,8 @@ TEST(Passivity, ExplicitEulerIsBoundedWheneverAccepted) {
       for (int trial = 0; trial < 2; ++trial) {
         double x0 = 0.5, v0 = 1.0;
         if (trial > 0) random_state(random, x0, v0);
-        const EnergyTrace t = trace_energy(law_params(law, Integrator::euler, dt), x0, v0,
-                                           std::lround(40.0 / dt));
+        const EnergyTrace t =
+            trace_energy(law_params(law, Integrator::euler, dt), x0, v0, std::lround(40.0 / dt));
         if (!t.configured) continue;
         ++accepted;
         // Linear and smoothed laws have the single equilibrium x = 0 and must decay to it; the
@@ -247,14 +252,16 @@ TEST(Passivity, ExplicitEulerIsBoundedWheneverAccepted) {
             law.model == FrictionModel::linear || law.model == FrictionModel::smooth;
         const bool ok = t.max_ratio <= 2.0 && (!unique_equilibrium || t.final_ratio < 1e-2);
         if (!ok && failed++ < 8)
-          failures += StringFromFormat("\n\t  %s euler dt = %g x0 = %g v0 = %g: max E %.4g E0, final %.4g E0",
-                                       law.name, dt, x0, v0, t.max_ratio, t.final_ratio);
+          failures += StringFromFormat(
+              "\n\t  %s euler dt = %g x0 = %g v0 = %g: max E %.4g E0, final %.4g E0", law.name, dt,
+              x0, v0, t.max_ratio, t.final_ratio);
         worst = std::max(worst, t.max_ratio);
       }
     }
   }
-  CHECK_TEXT(failed == 0, StringFromFormat("%d accepted Euler scenes unbounded or not decaying:%s", failed,
-                                           failures.asCharString()).asCharString());
+  CHECK_TEXT(failed == 0, StringFromFormat("%d accepted Euler scenes unbounded or not decaying:%s",
+                                           failed, failures.asCharString())
+                              .asCharString());
   CHECK(accepted > 20);  // the loop did test something
   test::note_margin("euler max E/E0", worst, 2.0);
 }

@@ -19,13 +19,13 @@ constexpr double kPi = 3.14159265358979323846;
 // ISO 2631-1:1997 Table 3 (weighting factors, not x1000) at the one-third-octave bands 0.5-80 Hz
 // (nominal frequencies; the factors belong to the exact band centres 10^(n/10) Hz).
 constexpr std::size_t kBands = 23;
-constexpr double kNominalHz[kBands] = {0.5, 0.63, 0.8, 1,  1.25, 1.6, 2,    2.5, 3.15, 4,  5, 6.3,
-                                       8,   10,   12.5, 16, 20,  25,  31.5, 40,  50,   63, 80};
+constexpr double kNominalHz[kBands] = {0.5, 0.63, 0.8,  1,  1.25, 1.6, 2,    2.5, 3.15, 4,  5, 6.3,
+                                       8,   10,   12.5, 16, 20,   25,  31.5, 40,  50,   63, 80};
 constexpr double kTableWk[kBands] = {0.418, 0.459, 0.477, 0.482, 0.484, 0.494, 0.531, 0.631,
                                      0.804, 0.967, 1.039, 1.054, 1.036, 0.988, 0.902, 0.768,
                                      0.636, 0.513, 0.405, 0.314, 0.246, 0.186, 0.132};
-constexpr double kTableWd[kBands] = {0.853, 0.944, 0.992,  1.011,  1.008,  0.968,  0.890, 0.776,
-                                     0.642, 0.512, 0.409,  0.323,  0.253,  0.212,  0.161, 0.125,
+constexpr double kTableWd[kBands] = {0.853, 0.944,  0.992,  1.011,  1.008,  0.968,  0.890, 0.776,
+                                     0.642, 0.512,  0.409,  0.323,  0.253,  0.212,  0.161, 0.125,
                                      0.100, 0.0800, 0.0632, 0.0494, 0.0388, 0.0295, 0.0211};
 // Wd at 10 Hz: the table's 0.212 is off the standard's own formula (0.2017) and its neighbours'
 // 1/f slope (0.253 * 8/10 = 0.202); it is compared with the formula's tolerance widened to 5 %.
@@ -35,7 +35,9 @@ double exact_band_centre(double nominal_hz) {
   return std::pow(10.0, std::round(10.0 * std::log10(nominal_hz)) / 10.0);
 }
 
-double decibels(double ratio) { return 20.0 * std::log10(ratio); }
+double decibels(double ratio) {
+  return 20.0 * std::log10(ratio);
+}
 
 }  // namespace
 
@@ -109,7 +111,8 @@ TEST(ComfortWeighting, RefusesSampleRatesItCannotServe) {
              stickslip::Status::out_of_range);
   CHECK_TRUE(stickslip::design_weighting(ComfortWeighting::wk, NAN, sections).status ==
              stickslip::Status::not_finite);
-  const stickslip::ConfigResult low = stickslip::design_weighting(ComfortWeighting::wd, 1.0, sections);
+  const stickslip::ConfigResult low =
+      stickslip::design_weighting(ComfortWeighting::wd, 1.0, sections);
   CHECK_FALSE(low.ok());
   STRCMP_CONTAINS("sample_rate_hz", low.message.c_str());
 }
@@ -161,7 +164,7 @@ TEST(RideComfort, ShockRaisesMtvvAndCrestFactorAboveTheOverallRms) {
   CHECK_TRUE(comfort.seat_mtvv() > 5.0 * comfort.seat_weighted_rms());
   const double rms_based_vdv = 1.4 * comfort.seat_weighted_rms() * std::pow(60.0, 0.25);
   CHECK_TRUE(comfort.seat_vdv() > rms_based_vdv);  // eVDV underestimates shocks
-  DOUBLES_EQUAL(0.0, comfort.seat_ratio(), 0.0);     // no floor motion: SEAT reported as 0
+  DOUBLES_EQUAL(0.0, comfort.seat_ratio(), 0.0);   // no floor motion: SEAT reported as 0
 }
 
 // A floor and seat barely moving (the weighting's start-up on a quantised sample gives the same):

@@ -40,7 +40,7 @@ T ulp_of(T value) {
 struct StuckAudit {
   long stuck_steps = 0, slipping_steps = 0, event_steps = 0;
   bool a_x_is_a_u = true, v_is_zero = true, holds_limit_force = true, within_static = true;
-  bool frozen = true;              // x unchanged across stuck steps without events
+  bool frozen = true;               // x unchanged across stuck steps without events
   bool stuck_time_in_range = true;  // 0 <= stuck_time <= dt, fraction in [0, 1], consistent
   bool whole_steps_exact = true;    // stuck throughout: fraction exactly 1; slipping: 0
   bool slip_friction_is_law = true;
@@ -104,7 +104,8 @@ StuckAudit audit_run(Integrator integrator, double dt, long steps) {
   // Known core issue, proven by FloatStribeckBreakAwayRaisesNoUnderflow: the float Stribeck law
   // squares a ~1e-20 m/s break-away velocity into a subnormal. Cleared here so that this test
   // judges only the stuck-state definitions it states.
-  if (sizeof(T) == sizeof(float) && Law::model == FrictionModel::stribeck) std::feclearexcept(FE_UNDERFLOW);
+  if (sizeof(T) == sizeof(float) && Law::model == FrictionModel::stribeck)
+    std::feclearexcept(FE_UNDERFLOW);
   return audit;
 }
 
@@ -112,12 +113,14 @@ template <typename T, typename Law>
 void check_audit(Integrator integrator, double dt) {
   const long steps = std::lround(30.0 / dt);
   const StuckAudit a = audit_run<T, Law>(integrator, dt, steps);
-  const SimpleString what = StringFromFormat("%s %s %s dt = %g", sizeof(T) == 4 ? "float" : "double",
-                                             model_name(Law::model), integrator_name(integrator), dt);
+  const SimpleString what =
+      StringFromFormat("%s %s %s dt = %g", sizeof(T) == 4 ? "float" : "double",
+                       model_name(Law::model), integrator_name(integrator), dt);
   // Both states well represented (each over 10 % of the steps) and many transitions.
   CHECK_TEXT(a.stuck_steps > steps / 10 && a.slipping_steps > steps / 10 && a.event_steps > 50,
              StringFromFormat("%s: %ld stuck, %ld slipping, %ld with events", what.asCharString(),
-                              a.stuck_steps, a.slipping_steps, a.event_steps).asCharString());
+                              a.stuck_steps, a.slipping_steps, a.event_steps)
+                 .asCharString());
   CHECK_TEXT(a.a_x_is_a_u, (what + ": stuck a_x != a_u").asCharString());
   CHECK_TEXT(a.v_is_zero, (what + ": stuck v_r != 0").asCharString());
   CHECK_TEXT(a.holds_limit_force, (what + ": stuck friction != -(m a_u + k x_r)").asCharString());
@@ -183,7 +186,8 @@ TEST(StickSlip, StuckSeatMovesWithTheFloorAndHoldsTheLimitForce) {
 
 // Float Stribeck separately: it also exercises the break-away of a velocity-dependent law in float.
 TEST(StickSlip, FloatStribeckStuckStateIsExact) {
-  for (Integrator integrator : kAllIntegrators) check_audit<float, StribeckStickSlip>(integrator, 1e-3);
+  for (Integrator integrator : kAllIntegrators)
+    check_audit<float, StribeckStickSlip>(integrator, 1e-3);
 }
 
 // Stuck at rest under a ramp a_u = r t (represented exactly by the hold): F_L = -m r t reaches
@@ -193,7 +197,7 @@ TEST(StickSlip, BreakAwayInstantOfARampIsExact) {
   double worst = 0.0;
   for (Integrator integrator : kAllIntegrators) {
     for (double dt : {1e-4, 1e-3, 7e-3, 0.04}) {  // 0.04 s: inside Euler's limit b/k
-      for (double rate : {0.37, -1.3, 9.1}) {  // m/s^3
+      for (double rate : {0.37, -1.3, 9.1}) {     // m/s^3
         Oscillator<double, CoulombStickSlip> seat;
         CHECK(seat.configure(sticking_params(FrictionModel::stick_slip, integrator, dt)).ok());
         seat.reset(0.0, 0.0, 0.0);
@@ -213,9 +217,11 @@ TEST(StickSlip, BreakAwayInstantOfARampIsExact) {
             CHECK(out.events >= 1);
             const double expected = t_break - static_cast<double>(j_break - 1) * dt;
             const double error = std::fabs(out.stuck_time_s - expected);
-            CHECK_TEXT(error < 1e-12, StringFromFormat("%s dt = %g r = %g: stuck time %.17g vs %.17g",
-                                                       integrator_name(integrator), dt, rate,
-                                                       out.stuck_time_s, expected).asCharString());
+            CHECK_TEXT(
+                error < 1e-12,
+                StringFromFormat("%s dt = %g r = %g: stuck time %.17g vs %.17g",
+                                 integrator_name(integrator), dt, rate, out.stuck_time_s, expected)
+                    .asCharString());
             worst = std::max(worst, error);
           }
         }
@@ -252,9 +258,10 @@ TEST(StickSlip, BreakAwayFractionOfAPreloadedSeatIsTheRootOfTheLinearLimitForce)
       const auto out = seat.step(c.a1);
       const double expected = break_away_fraction(c.x_s, c.a0, c.a1);
       const double error = std::fabs(out.stuck_fraction - expected);
-      CHECK_TEXT(error < 1e-12, StringFromFormat("x_s = %g a0 = %g a1 = %g dt = %g: fraction %.17g vs %.17g",
-                                                 c.x_s, c.a0, c.a1, dt, out.stuck_fraction,
-                                                 expected).asCharString());
+      CHECK_TEXT(error < 1e-12,
+                 StringFromFormat("x_s = %g a0 = %g a1 = %g dt = %g: fraction %.17g vs %.17g",
+                                  c.x_s, c.a0, c.a1, dt, out.stuck_fraction, expected)
+                     .asCharString());
       DOUBLES_EQUAL(expected * dt, out.stuck_time_s, 1e-12 * dt);
       worst = std::max(worst, error);
     }
@@ -289,15 +296,18 @@ TEST(StickSlip, SeveralEventsInOneLargeStepMatchAFineRun) {
     most_events = std::max(most_events, static_cast<int>(out.events));
     if (out.events >= 2) ++multi_event_steps;
     StepOutput<double> fine_out{};
-    for (std::size_t r = 1; r <= 1000; ++r) fine_out = fine.step(test::refine_linear(input, (n - 1) * 1000 + r, 1000));
+    for (std::size_t r = 1; r <= 1000; ++r)
+      fine_out = fine.step(test::refine_linear(input, (n - 1) * 1000 + r, 1000));
     worst = std::max(worst, std::fabs(out.x_r_m - fine_out.x_r_m));
     CHECK(out.stuck == fine_out.stuck);
   }
-  CHECK_TEXT(most_events >= 3, StringFromFormat("most events in a step: %d", most_events).asCharString());
+  CHECK_TEXT(most_events >= 3,
+             StringFromFormat("most events in a step: %d", most_events).asCharString());
   CHECK(multi_event_steps > 100);
   CHECK_EQUAL(0u, coarse.event_budget_exhausted());
   CHECK_EQUAL(0u, fine.event_budget_exhausted());
-  CHECK_TEXT(worst < 1e-9, StringFromFormat("max |x(0.05) - x(5e-5)| = %.3e m", worst).asCharString());
+  CHECK_TEXT(worst < 1e-9,
+             StringFromFormat("max |x(0.05) - x(5e-5)| = %.3e m", worst).asCharString());
   test::note_margin("multi-event step vs fine run, m", worst, 1e-9);
   test::note_margin("most events in one step", most_events, kMaxEventsPerStep);
 }
@@ -308,10 +318,12 @@ TEST(StickSlip, FloatAndDoubleAgreeOnTransmissibilityAndStickProbability) {
   const LorryStats f = lorry_statistics<float>(120.0, 1e-3);
   const double t_rel = std::fabs(f.transmissibility / d.transmissibility - 1.0);
   const double p_abs = std::fabs(f.stick_probability - d.stick_probability);
-  CHECK_TEXT(t_rel < 1e-4, StringFromFormat("T_ax float %.7f double %.7f", f.transmissibility,
-                                            d.transmissibility).asCharString());
-  CHECK_TEXT(p_abs < 1e-4, StringFromFormat("p float %.7f double %.7f", f.stick_probability,
-                                            d.stick_probability).asCharString());
+  CHECK_TEXT(t_rel < 1e-4,
+             StringFromFormat("T_ax float %.7f double %.7f", f.transmissibility, d.transmissibility)
+                 .asCharString());
+  CHECK_TEXT(p_abs < 1e-4,
+             StringFromFormat("p float %.7f double %.7f", f.stick_probability, d.stick_probability)
+                 .asCharString());
   CHECK(d.stick_probability > 0.2 && d.stick_probability < 0.95);
   test::note_margin("float vs double T_ax rel. diff", t_rel, 1e-4);
   test::note_margin("float vs double p abs. diff", p_abs, 1e-4);
@@ -339,6 +351,7 @@ TEST(StickSlip, FloatStribeckBreakAwayRaisesNoUnderflow) {
     }
   }
   std::feclearexcept(FE_ALL_EXCEPT);
-  CHECK_TEXT(underflows == 0, StringFromFormat("%d inputs underflow, first a1 = %.9g m/s^2", underflows,
-                                               static_cast<double>(first)).asCharString());
+  CHECK_TEXT(underflows == 0, StringFromFormat("%d inputs underflow, first a1 = %.9g m/s^2",
+                                               underflows, static_cast<double>(first))
+                                  .asCharString());
 }

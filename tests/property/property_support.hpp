@@ -23,7 +23,8 @@ inline double log_uniform(SplitMix64& random, double lo, double hi) {
 
 // m 20..200 kg, k 2..50 kN/m, damping ratio 0..2 (a quarter of the cases undamped), F_fk up to
 // 300 N, F_fs 1..1.5 F_fk, v_S 1 mm/s..0.1 m/s, c 1..1e4 s/m, dt 0.1..5 ms.
-inline OscillatorParams random_params(SplitMix64& random, FrictionModel model, Integrator integrator) {
+inline OscillatorParams random_params(SplitMix64& random, FrictionModel model,
+                                      Integrator integrator) {
   OscillatorParams p;
   p.model = model;
   p.integrator = integrator;
@@ -45,7 +46,8 @@ inline OscillatorParams random_params(SplitMix64& random, FrictionModel model, I
 inline std::vector<double> random_input(SplitMix64& random, double dt_s, std::size_t steps) {
   const LorrySignal signal = make_lorry_signal(random.next(), random.uniform(0.1, 3.0));
   std::vector<double> out = signal.sample(dt_s, steps + 1);
-  const std::size_t hold_from = static_cast<std::size_t>(random.uniform(0.3, 0.6) * static_cast<double>(steps));
+  const std::size_t hold_from =
+      static_cast<std::size_t>(random.uniform(0.3, 0.6) * static_cast<double>(steps));
   const std::size_t hold_to = hold_from + steps / 5;
   for (std::size_t n = hold_from + 1; n <= hold_to && n <= steps; ++n) out[n] = out[hold_from];
   return out;

@@ -18,12 +18,12 @@ constexpr int kCasesPerLaw = 100;
 constexpr std::size_t kSteps = 2000;
 
 SimpleString describe(const char* type, const OscillatorParams& p, int trial) {
-  return StringFromFormat("%s %s/%s %s case %d: m=%.6g k=%.6g b=%.6g F_fk=%.6g F_fs=%.6g v_S=%.3g "
-                          "c=%.6g dt=%.6g",
-                          type, model_name(p.model), smoothing_name(p.smoothing),
-                          integrator_name(p.integrator), trial, p.mass_kg, p.stiffness_n_per_m,
-                          p.damping_ns_per_m, p.kinetic_friction_n, p.static_friction_n,
-                          p.stribeck_velocity_m_per_s, p.smoothing_constant_s_per_m, p.dt_s);
+  return StringFromFormat(
+      "%s %s/%s %s case %d: m=%.6g k=%.6g b=%.6g F_fk=%.6g F_fs=%.6g v_S=%.3g "
+      "c=%.6g dt=%.6g",
+      type, model_name(p.model), smoothing_name(p.smoothing), integrator_name(p.integrator), trial,
+      p.mass_kg, p.stiffness_n_per_m, p.damping_ns_per_m, p.kinetic_friction_n, p.static_friction_n,
+      p.stribeck_velocity_m_per_s, p.smoothing_constant_s_per_m, p.dt_s);
 }
 
 // The energy bound each integrator documents with a_u = 0 (tests/core/test_passivity.cpp):
@@ -35,10 +35,14 @@ SimpleString describe(const char* type, const OscillatorParams& p, int trial) {
 double energy_bound(const OscillatorParams& p) {
   const double half = 0.5 * std::sqrt(p.stiffness_n_per_m / p.mass_kg) * p.dt_s;
   switch (p.integrator) {
-    case Integrator::symplectic: return (1.0 + half) / (1.0 - half) * (1.0 + 1e-9);
-    case Integrator::rk4: return 1.01;
-    case Integrator::euler: return 2.0;
-    case Integrator::exact: break;
+    case Integrator::symplectic:
+      return (1.0 + half) / (1.0 - half) * (1.0 + 1e-9);
+    case Integrator::rk4:
+      return 1.01;
+    case Integrator::euler:
+      return 2.0;
+    case Integrator::exact:
+      break;
   }
   return 1.0 + 1e-12;
 }
@@ -60,7 +64,8 @@ TEST(Properties, PassiveWithoutInput) {
         const double x0 = random.uniform(-0.2, 0.2), v0 = random.uniform(-1.0, 1.0);
         with_oscillator<double>(p, [&](auto& seat) {
           const bool ok = seat.configure(p).ok();
-          if (integrator == Integrator::exact) CHECK_TEXT(ok, describe("double", p, trial).asCharString());
+          if (integrator == Integrator::exact)
+            CHECK_TEXT(ok, describe("double", p, trial).asCharString());
           if (!ok) return 0;
           ++accepted;
           seat.reset(x0, v0, 0.0);
@@ -80,7 +85,8 @@ TEST(Properties, PassiveWithoutInput) {
             } else if (!(e <= bound)) {
               FAIL(StringFromFormat("%s: step %zu E = %.6g E0 > bound %.6g E0",
                                     describe("double", p, trial).asCharString(), n, e / e0,
-                                    bound / e0).asCharString());
+                                    bound / e0)
+                       .asCharString());
             }
             previous = e;
           }
@@ -129,20 +135,20 @@ void check_sticking_properties(std::uint64_t seed, int& held_steps, int& stuck_s
               const bool held = out.stuck && out.x_r_m == x_before && out.v_r_m_per_s == T(0) &&
                                 out.stuck_fraction == T(1);
               if (!held)
-                FAIL(StringFromFormat("%s step %zu: moved while |F_L| <= F_fs (x %.9g -> %.9g)",
-                                      describe(sizeof(T) == 4 ? "float" : "double", p, trial)
-                                          .asCharString(),
-                                      n, static_cast<double>(x_before),
-                                      static_cast<double>(out.x_r_m)).asCharString());
+                FAIL(StringFromFormat(
+                         "%s step %zu: moved while |F_L| <= F_fs (x %.9g -> %.9g)",
+                         describe(sizeof(T) == 4 ? "float" : "double", p, trial).asCharString(), n,
+                         static_cast<double>(x_before), static_cast<double>(out.x_r_m))
+                         .asCharString());
             }
             if (out.stuck) {
               ++stuck_samples;
               if (!(out.a_x_m_per_s2 == a1 && out.v_r_m_per_s == T(0)))
-                FAIL(StringFromFormat("%s step %zu: stuck but a_x = %.9g != a_u = %.9g",
-                                      describe(sizeof(T) == 4 ? "float" : "double", p, trial)
-                                          .asCharString(),
-                                      n, static_cast<double>(out.a_x_m_per_s2),
-                                      static_cast<double>(a1)).asCharString());
+                FAIL(StringFromFormat(
+                         "%s step %zu: stuck but a_x = %.9g != a_u = %.9g",
+                         describe(sizeof(T) == 4 ? "float" : "double", p, trial).asCharString(), n,
+                         static_cast<double>(out.a_x_m_per_s2), static_cast<double>(a1))
+                         .asCharString());
             }
           }
           return 0;
@@ -193,11 +199,13 @@ int check_reproducible(std::uint64_t seed) {
             if (n == kSteps / 2) copy = first;
             const auto a = first.step(static_cast<T>(input[n]));
             const auto b = second.step(static_cast<T>(input[n]));
-            const bool same_copy = n < kSteps / 2 || same_bits(a, copy.step(static_cast<T>(input[n])));
+            const bool same_copy =
+                n < kSteps / 2 || same_bits(a, copy.step(static_cast<T>(input[n])));
             if (!same_bits(a, b) || !same_copy)
-              FAIL(StringFromFormat("%s step %zu: runs differ",
-                                    describe(sizeof(T) == 4 ? "float" : "double", p, trial)
-                                        .asCharString(), n).asCharString());
+              FAIL(StringFromFormat(
+                       "%s step %zu: runs differ",
+                       describe(sizeof(T) == 4 ? "float" : "double", p, trial).asCharString(), n)
+                       .asCharString());
           }
           ++compared;
           return 0;
@@ -209,7 +217,8 @@ int check_reproducible(std::uint64_t seed) {
 }
 
 TEST(Properties, TwoRunsAgreeBitForBit) {
-  const int compared = check_reproducible<double>(0x5eed0004) + check_reproducible<float>(0x5eed0005);
+  const int compared =
+      check_reproducible<double>(0x5eed0004) + check_reproducible<float>(0x5eed0005);
   CHECK(compared > 500);
 }
 
@@ -227,14 +236,16 @@ TEST(Properties, FloatFollowsDoubleWithinRoundingBound) {
   for (int trial = 0; trial < 300; ++trial) {
     OscillatorParams p = test::random_params(random, FrictionModel::linear, Integrator::exact);
     const double omega0 = std::sqrt(p.stiffness_n_per_m / p.mass_kg);
-    p.damping_ns_per_m = random.uniform(0.1, 2.0) * 2.0 * std::sqrt(p.stiffness_n_per_m * p.mass_kg);
+    p.damping_ns_per_m =
+        random.uniform(0.1, 2.0) * 2.0 * std::sqrt(p.stiffness_n_per_m * p.mass_kg);
     const std::vector<double> input = test::random_input(random, p.dt_s, kSteps);
     Oscillator<double, NoFriction> wide;
     Oscillator<float, NoFriction> narrow;
     CHECK(wide.configure(p).ok());
     CHECK(narrow.configure(p).ok());
-    const double rho = spectral_radius(linear_step_map(
-        Integrator::exact, p.stiffness_n_per_m / p.mass_kg, p.damping_ns_per_m / p.mass_kg, p.dt_s));
+    const double rho =
+        spectral_radius(linear_step_map(Integrator::exact, p.stiffness_n_per_m / p.mass_kg,
+                                        p.damping_ns_per_m / p.mass_kg, p.dt_s));
     wide.reset(0.0, 0.0, input[0]);
     narrow.reset(0.0f, 0.0f, static_cast<float>(input[0]));
     double max_x = 0.0, max_a = std::fabs(input[0]), max_diff = 0.0;
@@ -249,8 +260,9 @@ TEST(Properties, FloatFollowsDoubleWithinRoundingBound) {
     const double memory = std::fmin(static_cast<double>(kSteps), 2.0 / (1.0 - rho));
     const double bound = 32.0 * static_cast<double>(FLT_EPSILON) * scale * memory;
     CHECK_TEXT(max_diff <= bound,
-               StringFromFormat("%s: |x_f - x_d| = %.3e > %.3e", describe("float", p, trial).asCharString(),
-                                max_diff, bound).asCharString());
+               StringFromFormat("%s: |x_f - x_d| = %.3e > %.3e",
+                                describe("float", p, trial).asCharString(), max_diff, bound)
+                   .asCharString());
     worst = std::fmax(worst, max_diff / bound);
   }
   test::note_margin("float vs double: worst |dx| / bound", worst, 1.0);

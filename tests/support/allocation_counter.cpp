@@ -20,8 +20,9 @@
 #if defined(STICKSLIP_COUNT_WITH_SANITIZER_HOOK)
 // Declared here as in LLVM's <sanitizer/allocator_interface.h>, which GCC does not install; both
 // runtimes (libasan and compiler-rt) export it.
-extern "C" int __sanitizer_install_malloc_and_free_hooks(
-    void (*malloc_hook)(const volatile void*, std::size_t), void (*free_hook)(const volatile void*));
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*,
+                                                                             std::size_t),
+                                                         void (*free_hook)(const volatile void*));
 #endif
 
 namespace {
@@ -35,7 +36,9 @@ void note() noexcept {
 #if defined(STICKSLIP_COUNT_WITH_SANITIZER_HOOK)
 
 namespace {
-void on_malloc(const volatile void* /*pointer*/, std::size_t /*size*/) { note(); }
+void on_malloc(const volatile void* /*pointer*/, std::size_t /*size*/) {
+  note();
+}
 void on_free(const volatile void* /*pointer*/) {}
 // Installed before main() runs (a static initialiser); the runtime keeps a handful of hook slots.
 const int hook_installed = __sanitizer_install_malloc_and_free_hooks(on_malloc, on_free);
@@ -77,7 +80,9 @@ int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
   *out = __libc_memalign(alignment, size);
   return *out == nullptr ? 12 /* ENOMEM */ : 0;
 }
-void free(void* pointer) { __libc_free(pointer); }
+void free(void* pointer) {
+  __libc_free(pointer);
+}
 }
 
 #endif

@@ -21,8 +21,8 @@
 #include <thread>
 #include <vector>
 
-#include "cli/cli_test_support.hpp"
-#include "stickslip/host/candump_log.hpp"
+#include "host/host_test_support.hpp"
+#include "stickslip/host/io/candump_log.hpp"
 #include "stickslip/port/socketcan_transport.hpp"
 #include "stickslip/port/transport.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
@@ -44,7 +44,8 @@ std::string interface_name() {
 std::uint64_t realtime_ns() {
   timespec now{};
   ::clock_gettime(CLOCK_REALTIME, &now);
-  return static_cast<std::uint64_t>(now.tv_sec) * 1000000000u + static_cast<std::uint64_t>(now.tv_nsec);
+  return static_cast<std::uint64_t>(now.tv_sec) * 1000000000u +
+         static_cast<std::uint64_t>(now.tv_nsec);
 }
 
 can::Frame classic(std::uint32_t id, std::vector<std::uint8_t> data, std::uint8_t flags = 0) {
@@ -135,7 +136,9 @@ TEST(SocketCanWithoutInterface, OpenSaysUnsupportedWithoutAfCanElseNoSuchInterfa
   check_status(TransportStatus::invalid_argument, endpoint->open(""));
   check_status(TransportStatus::invalid_argument, endpoint->open("a-name-longer-than-15"));
   const TransportStatus status = endpoint->open("nosuchcan7");
-  check_status(port::kernel_has_can() ? TransportStatus::no_such_interface : TransportStatus::unsupported, status);
+  check_status(
+      port::kernel_has_can() ? TransportStatus::no_such_interface : TransportStatus::unsupported,
+      status);
   if (!port::kernel_has_can()) {
     CHECK_FALSE(port::can_interface_is_up("vcan0"));
     STRCMP_EQUAL("loopback", port::default_bus_name().c_str());
@@ -146,7 +149,8 @@ TEST_GROUP(SocketCanVcan) {
   std::unique_ptr<port::Transport> sender = port::make_socketcan_transport();
   std::unique_ptr<port::Transport> receiver = port::make_socketcan_transport();
   void setup() override {
-    CHECK_TEXT(port::kernel_has_can(), "this kernel has no AF_CAN: run this group in the vcan guest");
+    CHECK_TEXT(port::kernel_has_can(),
+               "this kernel has no AF_CAN: run this group in the vcan guest");
     check_status(TransportStatus::ok, sender->open(interface_name()));
     check_status(TransportStatus::ok, receiver->open(interface_name()));
   }
@@ -227,13 +231,15 @@ TEST(SocketCanVcan, ReceiveTimesOutAfterTheTimeoutAndPollsWithZero) {
   can::Frame frame;
   auto start = std::chrono::steady_clock::now();
   check_status(TransportStatus::timeout, receiver->receive(frame, 0));
-  const auto poll_ms =
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start).count();
+  const auto poll_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                           std::chrono::steady_clock::now() - start)
+                           .count();
   CHECK_TRUE(poll_ms < 100);
   start = std::chrono::steady_clock::now();
   check_status(TransportStatus::timeout, receiver->receive(frame, 300));
-  const auto waited_ms =
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start).count();
+  const auto waited_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                             std::chrono::steady_clock::now() - start)
+                             .count();
   CHECK_TRUE(waited_ms >= 299);
   CHECK_TRUE(waited_ms < 3000);
 }
@@ -253,8 +259,10 @@ TEST(SocketCanVcan, FramesTheBusCannotCarryAreRefusedAndCounted) {
   frame.length = 9;
   check_status(TransportStatus::invalid_argument, sender->send(frame));
   check_status(TransportStatus::invalid_argument, sender->send(classic(0x800, {1})));
-  check_status(TransportStatus::invalid_argument, sender->send(classic(0x20000000, {1}, can::kExtendedId)));
-  check_status(TransportStatus::invalid_argument, sender->send(classic(0x4, {0, 4}, can::kErrorFrame)));
+  check_status(TransportStatus::invalid_argument,
+               sender->send(classic(0x20000000, {1}, can::kExtendedId)));
+  check_status(TransportStatus::invalid_argument,
+               sender->send(classic(0x4, {0, 4}, can::kErrorFrame)));
   can::Frame fd = classic(0x123, {}, can::kFd);
   fd.length = 13;  // no DLC says 13
   check_status(TransportStatus::invalid_argument, sender->send(fd));
@@ -294,7 +302,8 @@ TEST(SocketCanVcan, AFloodOverASmallReceiveBufferIsCountedAsDrops) {
   CHECK_TRUE(counters.receive_drops > 0);
   UNSIGNED_LONGLONGS_EQUAL(static_cast<std::uint64_t>(flood) + 1, read + counters.receive_drops);
   std::printf("\n  flood: %d sent, %llu read, %llu dropped (SO_RXQ_OVFL)\n", flood,
-              static_cast<unsigned long long>(read), static_cast<unsigned long long>(counters.receive_drops));
+              static_cast<unsigned long long>(read),
+              static_cast<unsigned long long>(counters.receive_drops));
 }
 
 TEST(SocketCanVcan, ADownOrMissingInterfaceIsNoSuchInterface) {
@@ -310,10 +319,14 @@ TEST(SocketCanVcan, ADownOrMissingInterfaceIsNoSuchInterface) {
 
 TEST(SocketCanVcan, CansendFramesAndErrorFramesReachOurEndpoint) {
   LONGS_EQUAL(0, run_guarded("cansend " + interface_name() + " 1F334455#1122334455667788"));
-  check_frame(classic(0x1F334455, {0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88}, can::kExtendedId), receive_one());
+  check_frame(
+      classic(0x1F334455, {0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88}, can::kExtendedId),
+      receive_one());
   LONGS_EQUAL(0, run_guarded("cansend " + interface_name() + " 123##1AABBCCDDEEFF001122334455"));
-  check_frame(classic(0x123, {0xAA, 0xBB, 0xCC, 0xDD, 0xEE, 0xFF, 0x00, 0x11, 0x22, 0x33, 0x44, 0x55}, can::kFd),
-              receive_one());
+  check_frame(
+      classic(0x123, {0xAA, 0xBB, 0xCC, 0xDD, 0xEE, 0xFF, 0x00, 0x11, 0x22, 0x33, 0x44, 0x55},
+              can::kFd),
+      receive_one());
   // An error frame (CAN_ERR_FLAG | CAN_ERR_CRTL) as a driver would report it.
   LONGS_EQUAL(0, run_guarded("cansend " + interface_name() + " 20000004#0004000000000000"));
   check_frame(classic(0x4, {0, 4, 0, 0, 0, 0, 0, 0}, can::kErrorFrame), receive_one());

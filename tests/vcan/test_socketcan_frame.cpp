@@ -53,16 +53,19 @@ TEST(SocketCanFrame, OnlyWholeClassicOrFdReadsAreFrames) {
 
 TEST(SocketCanFrame, IdFlagsBecomeFrameKinds) {
   can::Frame frame;
-  CHECK_TRUE(port::decode_socketcan_read(raw_frame(0x1ABCDEF0 | CAN_EFF_FLAG, 2), CAN_MTU, false, frame));
+  CHECK_TRUE(
+      port::decode_socketcan_read(raw_frame(0x1ABCDEF0 | CAN_EFF_FLAG, 2), CAN_MTU, false, frame));
   UNSIGNED_LONGS_EQUAL(0x1ABCDEF0, frame.id);
   UNSIGNED_LONGS_EQUAL(can::kExtendedId, frame.flags);
 
-  CHECK_TRUE(port::decode_socketcan_read(raw_frame(0x321 | CAN_RTR_FLAG, 4), CAN_MTU, false, frame));
+  CHECK_TRUE(
+      port::decode_socketcan_read(raw_frame(0x321 | CAN_RTR_FLAG, 4), CAN_MTU, false, frame));
   UNSIGNED_LONGS_EQUAL(can::kRemote, frame.flags);
   UNSIGNED_LONGS_EQUAL(4, frame.length);
   UNSIGNED_LONGS_EQUAL(0, frame.data[0]);  // a remote request carries no data
 
-  CHECK_TRUE(port::decode_socketcan_read(raw_frame(CAN_ERR_FLAG | CAN_ERR_CRTL, CAN_ERR_DLC), CAN_MTU, false, frame));
+  CHECK_TRUE(port::decode_socketcan_read(raw_frame(CAN_ERR_FLAG | CAN_ERR_CRTL, CAN_ERR_DLC),
+                                         CAN_MTU, false, frame));
   UNSIGNED_LONGS_EQUAL(CAN_ERR_CRTL, frame.id);
   UNSIGNED_LONGS_EQUAL(can::kErrorFrame, frame.flags);
   UNSIGNED_LONGS_EQUAL(CAN_ERR_DLC, frame.length);
@@ -95,11 +98,11 @@ TEST(SocketCanFrame, EncodeWritesTheRightSizeAndRefusesWhatNoBusCarries) {
     bad.length = length;
     return port::encode_socketcan_write(bad, raw, size) == TransportStatus::invalid_argument;
   };
-  CHECK_TRUE(refused(0x800, 0, 1));                         // wider than 11 bits
-  CHECK_TRUE(refused(0x20000000, can::kExtendedId, 1));     // wider than 29 bits
-  CHECK_TRUE(refused(0x100, 0, 9));                         // classic > 8 bytes
-  CHECK_TRUE(refused(0x100, can::kFd, 13));                 // no DLC says 13
-  CHECK_TRUE(refused(0x100, can::kFd | can::kRemote, 0));   // FD has no remote frames
-  CHECK_TRUE(refused(0x004, can::kErrorFrame, 8));          // error frames come from drivers
-  CHECK_FALSE(refused(0x100, can::kRemote, 8));             // a remote request for 8 bytes
+  CHECK_TRUE(refused(0x800, 0, 1));                        // wider than 11 bits
+  CHECK_TRUE(refused(0x20000000, can::kExtendedId, 1));    // wider than 29 bits
+  CHECK_TRUE(refused(0x100, 0, 9));                        // classic > 8 bytes
+  CHECK_TRUE(refused(0x100, can::kFd, 13));                // no DLC says 13
+  CHECK_TRUE(refused(0x100, can::kFd | can::kRemote, 0));  // FD has no remote frames
+  CHECK_TRUE(refused(0x004, can::kErrorFrame, 8));         // error frames come from drivers
+  CHECK_FALSE(refused(0x100, can::kRemote, 8));            // a remote request for 8 bytes
 }

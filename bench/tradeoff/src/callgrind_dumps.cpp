@@ -12,7 +12,8 @@ std::map<std::string, double> read_instruction_counts(const std::string& directo
   namespace fs = std::filesystem;
   std::error_code error;
   fs::directory_iterator files(directory, error);
-  if (error) throw host::HostError(directory + ": cannot read the callgrind dumps: " + error.message());
+  if (error)
+    throw host::HostError(directory + ": cannot read the callgrind dumps: " + error.message());
   static const std::string kTrigger = "desc: Trigger: Client Request: ";
   static const std::string kTotals = "totals: ";
   std::map<std::string, double> counts;

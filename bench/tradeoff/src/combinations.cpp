@@ -42,9 +42,12 @@ constexpr const char* kModelNames =
 
 const char* peer_integrator_name(PeerKind kind) noexcept {
   switch (kind) {
-    case PeerKind::rk4_smooth: return "odeint-rk4";
-    case PeerKind::dopri5_smooth: return "odeint-dopri5";
-    case PeerKind::dopri5_events: return "odeint-dopri5-events";
+    case PeerKind::rk4_smooth:
+      return "odeint-rk4";
+    case PeerKind::dopri5_smooth:
+      return "odeint-dopri5";
+    case PeerKind::dopri5_events:
+      return "odeint-dopri5-events";
   }
   return "?";
 }
@@ -53,7 +56,9 @@ const char* peer_model_name(PeerKind kind) noexcept {
   return kind == PeerKind::dopri5_events ? "stick-slip" : "smooth-tanh";
 }
 
-bool peer_uses_tolerance(PeerKind kind) noexcept { return kind != PeerKind::rk4_smooth; }
+bool peer_uses_tolerance(PeerKind kind) noexcept {
+  return kind != PeerKind::rk4_smooth;
+}
 
 std::vector<ModelChoice> parse_models(const std::string& list) {
   std::vector<ModelChoice> out;
@@ -121,8 +126,8 @@ std::vector<host::SignalKind> parse_kinds(const std::string& list) {
   for (const std::string& name : split("--kinds", list)) {
     host::SignalKind kind{};
     if (!host::parse_signal_kind(name, kind)) {
-      throw host::UsageError(
-          fmt::format("--kinds: unknown signal kind '{}' (known: wideband, lorry, harmonic)", name));
+      throw host::UsageError(fmt::format(
+          "--kinds: unknown signal kind '{}' (known: wideband, lorry, harmonic)", name));
     }
     out.push_back(kind);
   }
@@ -186,11 +191,14 @@ std::vector<PeerSpec> parse_peers(const std::string& list, const std::vector<dou
 
 bool runs_in_scene(const ModelChoice& model, const Scene& scene) noexcept {
   switch (model.model) {
-    case FrictionModel::linear: return scene.friction == SceneFriction::none;
-    case FrictionModel::stribeck: return scene.friction == SceneFriction::stribeck;
+    case FrictionModel::linear:
+      return scene.friction == SceneFriction::none;
+    case FrictionModel::stribeck:
+      return scene.friction == SceneFriction::stribeck;
     case FrictionModel::signum:
     case FrictionModel::smooth:
-    case FrictionModel::stick_slip: return scene.friction == SceneFriction::coulomb;
+    case FrictionModel::stick_slip:
+      return scene.friction == SceneFriction::coulomb;
   }
   return false;
 }

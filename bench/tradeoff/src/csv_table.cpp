@@ -19,7 +19,8 @@ struct Column {
   std::function<void(Row&, const std::string&)> set;
 };
 
-// RFC 4180: a cell with a separator or a quote is quoted, quotes doubled; line breaks become spaces.
+// RFC 4180: a cell with a separator or a quote is quoted, quotes doubled; line breaks become
+// spaces.
 std::string clean(std::string text) {
   for (char& c : text) {
     if (c == '\n' || c == '\r') c = ' ';

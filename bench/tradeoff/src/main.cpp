@@ -43,8 +43,10 @@ struct PlanText {
 };
 
 void add_plan_options(CLI::App* app, PlanText& t) {
-  app->add_option("--kinds", t.kinds, "scene excitations: wideband, lorry, harmonic")->capture_default_str();
-  app->add_option("--frictions", t.frictions, "scene physics: none, coulomb, stribeck")->capture_default_str();
+  app->add_option("--kinds", t.kinds, "scene excitations: wideband, lorry, harmonic")
+      ->capture_default_str();
+  app->add_option("--frictions", t.frictions, "scene physics: none, coulomb, stribeck")
+      ->capture_default_str();
   app->add_option("--K", t.ks, "Den Hartog factors of the friction scenes")->capture_default_str();
   app->add_option("--damping", t.dampings, "dampers b, N s/m")->capture_default_str();
   app->add_option("--duration", t.duration_s, "scene length, s")->capture_default_str();
@@ -52,7 +54,8 @@ void add_plan_options(CLI::App* app, PlanText& t) {
                   "linear, signum, smooth-tanh (smooth), smooth-atan, smooth-erf, smooth-rational, "
                   "stick-slip, stribeck")
       ->capture_default_str();
-  app->add_option("--integrators", t.integrators, "euler, symplectic, rk4, exact")->capture_default_str();
+  app->add_option("--integrators", t.integrators, "euler, symplectic, rk4, exact")
+      ->capture_default_str();
   app->add_option("--scalars", t.scalars, "float, double")->capture_default_str();
   app->add_option("--dt", t.dts, "steps in ms, whole multiples of 0.05 ms")->capture_default_str();
   app->add_option("--other-laws-dt", t.other_laws_dts,
@@ -76,7 +79,8 @@ Plan make_plan(const PlanText& t) {
   plan.dts_ms = parse_dts_ms(t.dts);
   plan.other_laws_dts_ms = parse_dts_ms(t.other_laws_dts);
   plan.peers = parse_peers(t.peers, parse_numbers("--tolerances", t.tolerances, 0.0, false));
-  if (t.repetitions < 1 || t.peer_repetitions < 1) throw host::UsageError("--repetitions: must be >= 1");
+  if (t.repetitions < 1 || t.peer_repetitions < 1)
+    throw host::UsageError("--repetitions: must be >= 1");
   plan.timing.repetitions = t.repetitions;
   plan.timing.min_repetition_s = t.min_repetition_ms * 1e-3;
   plan.peer_timing.repetitions = t.peer_repetitions;
@@ -88,26 +92,30 @@ Plan make_plan(const PlanText& t) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"stickslip_tradeoff: speed vs accuracy of every model x integrator x scalar x dt "
-               "against the reference solver, with Boost.Odeint peers"};
+  CLI::App app{
+      "stickslip_tradeoff: speed vs accuracy of every model x integrator x scalar x dt "
+      "against the reference solver, with Boost.Odeint peers"};
   app.require_subcommand(1);
 
   PlanText run_text;
   RunRequest run_request;
   CLI::App* run = app.add_subcommand("run", "Measure cost and error of every combination -> CSV");
   add_plan_options(run, run_text);
-  run->add_option("--peers", run_text.peers, "rk4, dopri5, dopri5-events, or none")->capture_default_str();
+  run->add_option("--peers", run_text.peers, "rk4, dopri5, dopri5-events, or none")
+      ->capture_default_str();
   run->add_option("--tolerances", run_text.tolerances, "error tolerances of the dopri5 peers")
       ->capture_default_str();
-  run->add_option("--repetitions", run_text.repetitions, "timed repetitions per combination (median)")
+  run->add_option("--repetitions", run_text.repetitions,
+                  "timed repetitions per combination (median)")
       ->capture_default_str();
   run->add_option("--peer-repetitions", run_text.peer_repetitions, "timed repetitions per peer run")
       ->capture_default_str();
   run->add_option("--min-repetition-ms", run_text.min_repetition_ms,
                   "a repetition loops over the input for at least this long")
       ->capture_default_str();
-  run->add_option("--instructions", run_request.instructions_dir,
-                  "directory of count-instructions' callgrind dumps (fills instructions_per_sample)");
+  run->add_option(
+      "--instructions", run_request.instructions_dir,
+      "directory of count-instructions' callgrind dumps (fills instructions_per_sample)");
   run->add_option("--output", run_request.output_csv, "CSV to write")->required();
 
   PlanText count_text;
@@ -116,30 +124,41 @@ int main(int argc, char** argv) {
       "Run every combination's loop once on a short input with callgrind instrumentation; use "
       "under valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file=DIR/cg.%p");
   add_plan_options(count, count_text);
-  count->add_option("--steps", count_text.instruction_steps, "steps per combination (0: the whole input)")
+  count
+      ->add_option("--steps", count_text.instruction_steps,
+                   "steps per combination (0: the whole input)")
       ->capture_default_str();
 
   ReportRequest report_request;
-  CLI::App* report = app.add_subcommand("report", "Write PERFORMANCE.md and the plot data from the CSV");
+  CLI::App* report =
+      app.add_subcommand("report", "Write PERFORMANCE.md and the plot data from the CSV");
   report->add_option("--results", report_request.results_csv, "the run's CSV")->required();
-  report->add_option("--results-link", report_request.results_link, "link to the CSV from the .md")->required();
-  report->add_option("--machine", report_request.machine_file, "machine facts, 'key: value' lines")->required();
+  report->add_option("--results-link", report_request.results_link, "link to the CSV from the .md")
+      ->required();
+  report->add_option("--machine", report_request.machine_file, "machine facts, 'key: value' lines")
+      ->required();
   report->add_option("--profile-dump", report_request.profile_dump,
                      "callgrind dump of the headline configuration (count-instructions --steps 0)");
-  report->add_option("--bench-step", report_request.bench_step_text, "stickslip_bench_step console output");
+  report->add_option("--bench-step", report_request.bench_step_text,
+                     "stickslip_bench_step console output");
   report->add_option("--bench-step-json", report_request.bench_step_json,
                      "the same run's --benchmark_out JSON (batch vs singles)");
-  report->add_option("--batch-profile", report_request.batch_profile_dir,
-                     "callgrind profiles of batch and singles (<tag>.json + <tag>.txt per benchmark)");
+  report->add_option(
+      "--batch-profile", report_request.batch_profile_dir,
+      "callgrind profiles of batch and singles (<tag>.json + <tag>.txt per benchmark)");
   report->add_option("--bench-step-avx2-json", report_request.bench_step_avx2_json,
                      "batch vs singles of a build with -march=x86-64-v3 (--benchmark_out JSON)");
   report->add_option("--output", report_request.output_md, "markdown to write")->required();
-  report->add_option("--plot-dir", report_request.plot_dir, "where the gnuplot data go")->required();
-  report->add_option("--image-link", report_request.image_link, "PNG directory relative to the .md")->required();
-  report->add_option("--command", report_request.command, "the command that reproduces the report")->required();
+  report->add_option("--plot-dir", report_request.plot_dir, "where the gnuplot data go")
+      ->required();
+  report->add_option("--image-link", report_request.image_link, "PNG directory relative to the .md")
+      ->required();
+  report->add_option("--command", report_request.command, "the command that reproduces the report")
+      ->required();
   report->add_option("--elapsed", report_request.elapsed_s, "seconds the command took so far");
 
-  CLI::App* info = app.add_subcommand("build-info", "Print compiler, flags, build type, reference method");
+  CLI::App* info =
+      app.add_subcommand("build-info", "Print compiler, flags, build type, reference method");
 
   try {
     app.parse(argc, argv);

@@ -32,7 +32,9 @@ double max_abs(const std::vector<double>& a) {
   return out;
 }
 
-double relative(double error, double scale) { return scale > 0.0 ? error / scale : error; }
+double relative(double error, double scale) {
+  return scale > 0.0 ? error / scale : error;
+}
 
 template <typename T>
 const std::vector<T>& input_of(const SampledInput& input);
@@ -57,12 +59,13 @@ Outcome run_typed(const OscillatorParams& params, const SampledInput& input,
       outcome.status = refused_status(outcome.note);
       return outcome;
     }
-    const bool sticking = params.model == FrictionModel::stick_slip ||
-                          params.model == FrictionModel::stribeck;
+    const bool sticking =
+        params.model == FrictionModel::stick_slip || params.model == FrictionModel::stribeck;
     outcome.trace = trace_stream(oscillator, a_u, sticking);
     if (!outcome.trace.finite || oscillator.state_resets() > 0) {
       outcome.status = "unstable";
-      outcome.note = fmt::format("non-finite state ({} restarts from rest)", oscillator.state_resets());
+      outcome.note =
+          fmt::format("non-finite state ({} restarts from rest)", oscillator.state_resets());
       return outcome;
     }
     const std::string reason = blow_up_reason(outcome.trace, physics);
@@ -72,7 +75,8 @@ Outcome run_typed(const OscillatorParams& params, const SampledInput& input,
       return outcome;
     }
     if (oscillator.event_budget_exhausted() > 0) {
-      outcome.note = fmt::format("event budget exhausted in {} steps", oscillator.event_budget_exhausted());
+      outcome.note =
+          fmt::format("event budget exhausted in {} steps", oscillator.event_budget_exhausted());
     }
     outcome.timing = time_stream(oscillator, a_u, timing);
     return outcome;
@@ -122,7 +126,8 @@ std::string blow_up_reason(const RunTrace& trace, const Reference& reference) {
   if (x_max > x_limit) {
     return fmt::format("max |x_r| {:.3g} m > {:.3g} m (10x the reference + 1 m)", x_max, x_limit);
   }
-  const double a_rms = rms(trace.a_x_m_per_s2), a_limit = 100.0 * rms(reference.a_x_m_per_s2) + 10.0;
+  const double a_rms = rms(trace.a_x_m_per_s2),
+               a_limit = 100.0 * rms(reference.a_x_m_per_s2) + 10.0;
   if (a_rms > a_limit) {
     return fmt::format("RMS a_x {:.3g} m/s^2 > {:.3g} (100x the reference + 10)", a_rms, a_limit);
   }
@@ -154,8 +159,14 @@ bool count_library(const OscillatorParams& params, host::ScalarType scalar,
                                              : count_typed<double>(params, input, steps, name);
 }
 
-const char* build_compiler() noexcept { return STICKSLIP_CXX_COMPILER; }
-const char* build_flags() noexcept { return STICKSLIP_CXX_FLAGS; }
-const char* build_type() noexcept { return STICKSLIP_BUILD_TYPE; }
+const char* build_compiler() noexcept {
+  return STICKSLIP_CXX_COMPILER;
+}
+const char* build_flags() noexcept {
+  return STICKSLIP_CXX_FLAGS;
+}
+const char* build_type() noexcept {
+  return STICKSLIP_BUILD_TYPE;
+}
 
 }  // namespace stickslip::tradeoff

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <limits>
 
-#include <boost/numeric/odeint.hpp>
 #include <fmt/format.h>
+#include <boost/numeric/odeint.hpp>
 
 namespace stickslip::tradeoff {
 namespace {
@@ -44,8 +44,8 @@ struct SmoothRhs {
   Interval in;
   void operator()(const State& s, State& d, double t) const {
     d[0] = s[1];
-    d[1] = -q->k_m * s[0] - q->b_m * s[1] - q->inv_m * q->kinetic_n * std::tanh(q->smoothing_c * s[1]) -
-           in.at(t);
+    d[1] = -q->k_m * s[0] - q->b_m * s[1] -
+           q->inv_m * q->kinetic_n * std::tanh(q->smoothing_c * s[1]) - in.at(t);
   }
 };
 
@@ -73,10 +73,14 @@ StepOutput<double> slip_output(const Coefficients& q, const State& s, double fri
 // which the harness reports as unstable): an integration that cannot advance must not hang the run.
 constexpr int kMaxAttemptsPerSample = 100000;
 
-void give_up(State& s) { s[0] = s[1] = std::numeric_limits<double>::quiet_NaN(); }
+void give_up(State& s) {
+  s[0] = s[1] = std::numeric_limits<double>::quiet_NaN();
+}
 
 // The time of sample n: from the index, never accumulated.
-double sample_time(std::uint64_t n, double dt) { return static_cast<double>(n) * dt; }
+double sample_time(std::uint64_t n, double dt) {
+  return static_cast<double>(n) * dt;
+}
 
 // runge_kutta4, one step per sample.
 class Rk4Smooth {
@@ -112,7 +116,9 @@ class Rk4Smooth {
 class Dopri5Smooth {
  public:
   Dopri5Smooth(const Coefficients& q, double tolerance)
-      : q_(q), stepper_(odeint::make_controlled(tolerance, tolerance, odeint::runge_kutta_dopri5<State>())) {}
+      : q_(q),
+        stepper_(
+            odeint::make_controlled(tolerance, tolerance, odeint::runge_kutta_dopri5<State>())) {}
   void reset(double x0, double v0, double a0) {
     s_ = {x0, v0};
     a_prev_ = a0;
@@ -164,7 +170,8 @@ class Dopri5Events {
   Dopri5Events(const Coefficients& q, double tolerance)
       : q_(q),
         time_tolerance_s_(tolerance * kPeerEventTimeTolerancePerTolerance),
-        stepper_(odeint::make_controlled(tolerance, tolerance, odeint::runge_kutta_dopri5<State>())) {}
+        stepper_(
+            odeint::make_controlled(tolerance, tolerance, odeint::runge_kutta_dopri5<State>())) {}
   void reset(double x0, double v0, double a0) {
     s_ = {x0, v0};
     a_prev_ = a0;

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "stickslip/host/reference_solver.hpp"
+#include "stickslip/host/run/reference_solver.hpp"
 
 namespace stickslip::tradeoff {
 namespace {
@@ -17,7 +17,8 @@ double rms(const std::vector<double>& values) {
 }  // namespace
 
 const char* reference_method() noexcept {
-  return "stickslip::host::solve_reference (sim_host/include/stickslip/host/reference_solver.hpp: "
+  return "stickslip::host::solve_reference "
+         "(sim_host/include/stickslip/host/run/reference_solver.hpp: "
          "event-driven, closed form between events where the friction is constant, tight adaptive "
          "integration for the Stribeck and smoothed laws)";
 }

@@ -40,8 +40,8 @@ Row scene_row(const Scene& scene, const Plan& plan, double dt_ms, std::size_t st
   return row;
 }
 
-void fill_outcome(Row& row, const Outcome& outcome, const Reference& physics,
-                  const Reference& own, bool friction_scene) {
+void fill_outcome(Row& row, const Outcome& outcome, const Reference& physics, const Reference& own,
+                  bool friction_scene) {
   row.status = outcome.status;
   row.note = outcome.note;
   row.t_ax_ref = physics.transmissibility;
@@ -90,7 +90,8 @@ class SignalCache {
 
 // The reference solver refuses what the core's configure() refuses with the exact integrator (e.g.
 // a dt beyond the event search's limit): say for which scene and dt.
-Reference reference_for(const Scene& scene, const OscillatorParams& params, const std::vector<double>& a_u) {
+Reference reference_for(const Scene& scene, const OscillatorParams& params,
+                        const std::vector<double>& a_u) {
   try {
     return compute_reference(params, a_u);
   } catch (const host::HostError& error) {
@@ -167,7 +168,8 @@ void write_results(const RunRequest& request, std::ostream& out, std::ostream& p
             fill_outcome(row, outcome, physics, own, friction_scene);
             const auto counted = instructions.find(
                 combination_key(scene.name, row.model, row.integrator, row.scalar, dt_ms));
-            if (outcome.timing && counted != instructions.end()) row.ir_per_sample = counted->second;
+            if (outcome.timing && counted != instructions.end())
+              row.ir_per_sample = counted->second;
             write_row(out, row);
             ++rows;
           }
@@ -182,7 +184,8 @@ void write_results(const RunRequest& request, std::ostream& out, std::ostream& p
           const bool smooth_peer = peer.kind != PeerKind::dopri5_events;
           const Reference& own = smooth_peer ? own_reference(smooth) : physics;
           const OscillatorParams params = physics_params(scene, dt_ms);
-          const Outcome outcome = run_peer(peer, params, input.as_double, physics, plan.peer_timing);
+          const Outcome outcome =
+              run_peer(peer, params, input.as_double, physics, plan.peer_timing);
           Row row = scene_row(scene, plan, dt_ms, steps);
           row.implementation = "odeint";
           row.model = peer_model_name(peer.kind);
@@ -197,7 +200,8 @@ void write_results(const RunRequest& request, std::ostream& out, std::ostream& p
       out.flush();
     }
     progress << fmt::format("{:>28}: {:5.1f} s, of which references {:4.1f} s ({:.0f} s so far)\n",
-                            scene.name, seconds_since(scene_start), reference_s, seconds_since(started))
+                            scene.name, seconds_since(scene_start), reference_s,
+                            seconds_since(started))
              << std::flush;
   }
   progress << fmt::format("{} rows in {:.1f} s -> {}\n", rows, seconds_since(started),
@@ -250,17 +254,19 @@ void count_instructions(const Plan& plan, std::ostream& progress) {
           for (const host::ScalarType scalar : plan.scalars) {
             const std::size_t steps =
                 plan.instruction_steps > 0 ? plan.instruction_steps : input.as_double.size();
-            const std::string key = combination_key(scene.name, model.name,
-                                                    integrator_name(integrator),
-                                                    host::scalar_name(scalar), dt_ms);
-            if (count_library(run_params(scene, model, integrator, dt_ms), scalar, input, steps, key)) {
+            const std::string key =
+                combination_key(scene.name, model.name, integrator_name(integrator),
+                                host::scalar_name(scalar), dt_ms);
+            if (count_library(run_params(scene, model, integrator, dt_ms), scalar, input, steps,
+                              key)) {
               ++counted;
             }
           }
         }
       }
     }
-    progress << fmt::format("{:>28}: counted ({:.0f} s so far)\n", scene.name, seconds_since(started))
+    progress << fmt::format("{:>28}: counted ({:.0f} s so far)\n", scene.name,
+                            seconds_since(started))
              << std::flush;
   }
   progress << fmt::format("{} combinations counted in {:.1f} s\n", counted, seconds_since(started));

@@ -12,15 +12,20 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // "0.8", "1.5", "504": short and exact for the values the scenes use.
-std::string short_number(double value) { return fmt::format("{:g}", value); }
+std::string short_number(double value) {
+  return fmt::format("{:g}", value);
+}
 
 }  // namespace
 
 const char* friction_name(SceneFriction friction) noexcept {
   switch (friction) {
-    case SceneFriction::none: return "none";
-    case SceneFriction::coulomb: return "coulomb";
-    case SceneFriction::stribeck: return "stribeck";
+    case SceneFriction::none:
+      return "none";
+    case SceneFriction::coulomb:
+      return "coulomb";
+    case SceneFriction::stribeck:
+      return "stribeck";
   }
   return "?";
 }
@@ -86,14 +91,15 @@ std::vector<double> generate_base_signal(host::SignalKind kind, const SceneOptio
 
 std::size_t stride_for_dt_ms(double dt_ms) {
   if (!(dt_ms > 0.0) || !std::isfinite(dt_ms)) {
-    throw host::UsageError(fmt::format("dt {:g} ms: must be a positive number of milliseconds", dt_ms));
+    throw host::UsageError(
+        fmt::format("dt {:g} ms: must be a positive number of milliseconds", dt_ms));
   }
   const double ratio = dt_ms / kBaseDtMs;
   const double whole = std::round(ratio);
   if (whole < 1.0 || std::fabs(ratio - whole) > 1e-9 * whole || whole > 1e8) {
-    throw host::UsageError(fmt::format(
-        "dt {:g} ms: must be a whole multiple of the {:g} ms the input is generated at", dt_ms,
-        kBaseDtMs));
+    throw host::UsageError(
+        fmt::format("dt {:g} ms: must be a whole multiple of the {:g} ms the input is generated at",
+                    dt_ms, kBaseDtMs));
   }
   return static_cast<std::size_t>(whole);
 }

@@ -3,7 +3,11 @@
 
 extern "C" {
 __attribute__((weak)) void board_start() {}
-__attribute__((weak)) bool board_can_read(stickslip::can::Frame* /*frame*/) { return false; }
+__attribute__((weak)) bool board_can_read(stickslip::can::Frame* /*frame*/) {
+  return false;
+}
 __attribute__((weak)) void board_can_send(const stickslip::can::Frame* /*frame*/) {}
-__attribute__((weak)) void board_idle() { __asm volatile("wfi"); }
+__attribute__((weak)) void board_idle() {
+  __asm volatile("wfi");
+}
 }

@@ -33,7 +33,9 @@ int open_file(const char* name, int mode) {
                                    static_cast<std::uintptr_t>(mode), length};
   return semihost(kSysOpen, block);
 }
-void print(const char* text) { semihost(kSysWrite0, text); }
+void print(const char* text) {
+  semihost(kSysWrite0, text);
+}
 void print_number(std::uint64_t value) {
   char digits[24];
   int at = 23;
@@ -57,7 +59,8 @@ struct ReadInput {
   std::size_t operator()(std::uint8_t* buffer, std::size_t capacity) const {
     const std::uintptr_t block[3] = {static_cast<std::uintptr_t>(input_file),
                                      reinterpret_cast<std::uintptr_t>(buffer), capacity};
-    return capacity - static_cast<std::size_t>(semihost(kSysRead, block));  // returns bytes NOT read
+    return capacity -
+           static_cast<std::size_t>(semihost(kSysRead, block));  // returns bytes NOT read
   }
 };
 struct WriteOutput {
@@ -145,7 +148,8 @@ extern "C" void board_idle() {
   for (int i = 0; i < 3; ++i) {
     std::uint64_t below = 0;
     int bucket = 0;
-    while (bucket < kBuckets - 1 && below + histogram[bucket] < ranks[i]) below += histogram[bucket++];
+    while (bucket < kBuckets - 1 && below + histogram[bucket] < ranks[i])
+      below += histogram[bucket++];
     print(names[i]);
     print_number(100u * static_cast<std::uint64_t>(bucket + 1));
   }
@@ -154,8 +158,8 @@ extern "C" void board_idle() {
   // The deepest stack below board_idle's frame: the receive interrupt, the step and what they
   // call (board_idle's own locals above the marker excluded).
   print("\ncallback_stack_bytes ");
-  print_number(static_cast<std::uint64_t>(callback_stack_base -
-                                          reinterpret_cast<std::uintptr_t>(lowest)));
+  print_number(
+      static_cast<std::uint64_t>(callback_stack_base - reinterpret_cast<std::uintptr_t>(lowest)));
   print("\n");
   exit_with(true);
 }

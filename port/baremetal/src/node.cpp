@@ -21,7 +21,9 @@ const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const
 #else
 using Scalar = float;  // Cortex-M4F: single-precision FPU
 using Seat = stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>;
-const Seat& model_of(const Seat& s) { return s; }
+const Seat& model_of(const Seat& s) {
+  return s;
+}
 #endif
 
 Seat seat;  // the model's coefficients and state, statically allocated (no heap)
@@ -65,7 +67,8 @@ extern "C" int stickslip_node_start() {
 #if defined(STICKSLIP_FIRMWARE_FIXED)
   if (result.ok()) {
     const double unit = seat.units().acceleration_m_per_s2();
-    if (!input_scale.set_count_to_scalar(1e-3 / unit) || !output_scale.set_scalar_to_count(unit / 1e-3))
+    if (!input_scale.set_count_to_scalar(1e-3 / unit) ||
+        !output_scale.set_scalar_to_count(unit / 1e-3))
       return static_cast<int>(stickslip::Status::out_of_range);
   }
 #endif
@@ -75,8 +78,8 @@ extern "C" int stickslip_node_start() {
 extern "C" void stickslip_node_on_frame(const stickslip::can::Frame* frame) {
   if (frame->id != kNodeInputId || frame->length < 2 || (frame->flags & stickslip::can::kRemote))
     return;
-  const auto raw = static_cast<std::int16_t>(static_cast<std::uint16_t>(
-      frame->data[0] | static_cast<unsigned>(frame->data[1]) << 8));
+  const auto raw = static_cast<std::int16_t>(
+      static_cast<std::uint16_t>(frame->data[0] | static_cast<unsigned>(frame->data[1]) << 8));
   const Scalar a_u = input_of(raw);
   seat.step(a_u, last_output);  // in place: no copy of the outputs on the interrupt's stack
   const stickslip::StepOutput<Scalar>& out = last_output;
@@ -108,7 +111,7 @@ std::uint64_t bits_of(Scalar v) {
 }  // namespace
 
 extern "C" void stickslip_node_record(std::uint8_t* out) {
-  const Scalar fields[6] = {last_output.x_r_m,      last_output.v_r_m_per_s,
+  const Scalar fields[6] = {last_output.x_r_m,        last_output.v_r_m_per_s,
                             last_output.a_x_m_per_s2, last_output.friction_n,
                             last_output.stuck_time_s, last_output.stuck_fraction};
   for (const Scalar field : fields) {

@@ -1,5 +1,6 @@
 // Minimal Cortex-M startup: the vector table, .data copied from flash, .bss zeroed, static
-// constructors run, then firmware_main() (C++ may not call main()). Every exception without a handler parks in Default_Handler.
+// constructors run, then firmware_main() (C++ may not call main()). Every exception without a
+// handler parks in Default_Handler.
 #include <cstddef>
 #include <cstdint>
 
@@ -32,10 +33,10 @@ union VectorEntry {
 
 // ARMv6-M/ARMv7-M: 16 system entries, then the interrupts (IRQ 0: the CAN receive interrupt).
 __attribute__((section(".vectors"), used)) const VectorEntry vector_table[17] = {
-    &__stack_top,      Reset_Handler, NMI_Handler, HardFault_Handler, Default_Handler,
-    Default_Handler,   Default_Handler, nullptr,   nullptr,           nullptr,
-    nullptr,           SVC_Handler,   Default_Handler, nullptr,       PendSV_Handler,
-    SysTick_Handler,   CAN0_IRQHandler};
+    &__stack_top,    Reset_Handler,   NMI_Handler,     HardFault_Handler, Default_Handler,
+    Default_Handler, Default_Handler, nullptr,         nullptr,           nullptr,
+    nullptr,         SVC_Handler,     Default_Handler, nullptr,           PendSV_Handler,
+    SysTick_Handler, CAN0_IRQHandler};
 
 extern "C" void Reset_Handler() {
 #if defined(__ARM_FP)

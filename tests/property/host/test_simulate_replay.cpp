@@ -23,9 +23,9 @@
 #include "CppUTest/TestHarness.h"
 #include "property/property_support.hpp"
 #include "stickslip/can/codec.hpp"
-#include "stickslip/host/bus_commands.hpp"
-#include "stickslip/host/commands.hpp"
+#include "stickslip/host/bus/bus_commands.hpp"
 #include "stickslip/host/error.hpp"
+#include "stickslip/host/run/commands.hpp"
 
 using namespace stickslip;
 
@@ -39,7 +39,8 @@ std::string read_text(const std::string& path) {
 }
 
 // t = n dt from the integer n (no accumulated time); a_u as given or quantised.
-void write_signal(const std::string& path, double dt_s, const std::vector<double>& a_u, bool quantised) {
+void write_signal(const std::string& path, double dt_s, const std::vector<double>& a_u,
+                  bool quantised) {
   std::FILE* file = std::fopen(path.c_str(), "w");
   CHECK(file != nullptr);
   std::fprintf(file, "t,a_u\n");
@@ -60,8 +61,9 @@ bool same_run_figures(const host::SimulationSummary& a, const host::SimulationSu
   return a.samples == b.samples && a.steps == b.steps && same_bits(a.dt_s, b.dt_s) &&
          same_bits(a.rms_u, b.rms_u) && same_bits(a.rms_x, b.rms_x) &&
          same_bits(a.transmissibility, b.transmissibility) &&
-         same_bits(a.stick_probability, b.stick_probability) && same_bits(a.den_hartog_k, b.den_hartog_k) &&
-         a.events == b.events && a.rejected_inputs == b.rejected_inputs &&
+         same_bits(a.stick_probability, b.stick_probability) &&
+         same_bits(a.den_hartog_k, b.den_hartog_k) && a.events == b.events &&
+         a.rejected_inputs == b.rejected_inputs &&
          a.event_budget_exhausted == b.event_budget_exhausted && a.state_resets == b.state_resets &&
          a.saturated_steps == b.saturated_steps;
 }
@@ -80,7 +82,8 @@ Case random_case(test::SplitMix64& random, int trial) {
   Case c;
   c.scalar = static_cast<host::ScalarType>(trial % 3);
   static constexpr FrictionModel kFixedModels[] = {FrictionModel::linear, FrictionModel::signum,
-                                                   FrictionModel::smooth, FrictionModel::stick_slip};
+                                                   FrictionModel::smooth,
+                                                   FrictionModel::stick_slip};
   const FrictionModel model = c.scalar == host::ScalarType::fixed
                                   ? kFixedModels[random.next() % 4]
                                   : test::kAllModels[random.next() % 5];
@@ -102,14 +105,13 @@ Case random_case(test::SplitMix64& random, int trial) {
 
 SimpleString describe(const Case& c, int trial) {
   const OscillatorParams& p = c.setup.params;
-  return StringFromFormat("case %d: %s %s/%s %s m=%.6g k=%.6g b=%.6g F_fk=%.6g F_fs=%.6g v_S=%.3g "
-                          "c=%.6g dt=%.6g x0=%.3g v0=%.3g, %zu samples",
-                          trial, host::scalar_name(c.scalar), model_name(p.model),
-                          smoothing_name(p.smoothing), integrator_name(p.integrator), p.mass_kg,
-                          p.stiffness_n_per_m, p.damping_ns_per_m, p.kinetic_friction_n,
-                          p.static_friction_n, p.stribeck_velocity_m_per_s,
-                          p.smoothing_constant_s_per_m, p.dt_s, c.setup.x0_m, c.setup.v0_m_per_s,
-                          c.a_u.size());
+  return StringFromFormat(
+      "case %d: %s %s/%s %s m=%.6g k=%.6g b=%.6g F_fk=%.6g F_fs=%.6g v_S=%.3g "
+      "c=%.6g dt=%.6g x0=%.3g v0=%.3g, %zu samples",
+      trial, host::scalar_name(c.scalar), model_name(p.model), smoothing_name(p.smoothing),
+      integrator_name(p.integrator), p.mass_kg, p.stiffness_n_per_m, p.damping_ns_per_m,
+      p.kinetic_friction_n, p.static_friction_n, p.stribeck_velocity_m_per_s,
+      p.smoothing_constant_s_per_m, p.dt_s, c.setup.x0_m, c.setup.v0_m_per_s, c.a_u.size());
 }
 
 struct Outcome {
@@ -170,7 +172,9 @@ TEST_GROUP(SimulateReplayProperty) {
               .string();
     std::filesystem::create_directories(dir);
   }
-  void teardown() override { std::filesystem::remove_all(dir); }
+  void teardown() override {
+    std::filesystem::remove_all(dir);
+  }
 };
 
 TEST(SimulateReplayProperty, SimulateEqualsReplayBitForBitAndRunsRepeat) {
@@ -196,10 +200,13 @@ TEST(SimulateReplayProperty, SimulateEqualsReplayBitForBitAndRunsRepeat) {
     }
     CHECK_TEXT(s1.text == s2.text && same_run_figures(s1.summary, s2.summary),
                (SimpleString("two simulate runs differ: ") + what).asCharString());
-    CHECK_TEXT(r1.text == r2.text && same_run_figures(r1.summary, r2.summary) && saturated == saturated_again,
+    CHECK_TEXT(r1.text == r2.text && same_run_figures(r1.summary, r2.summary) &&
+                   saturated == saturated_again,
                (SimpleString("two replay runs differ: ") + what).asCharString());
-    CHECK_TEXT(s1.text == r1.text, (SimpleString("simulate != replay (rows): ") + what).asCharString());
-    CHECK_TEXT(same_run_figures(s1.summary, r1.summary), (SimpleString("simulate != replay (figures): ") + what).asCharString());
+    CHECK_TEXT(s1.text == r1.text,
+               (SimpleString("simulate != replay (rows): ") + what).asCharString());
+    CHECK_TEXT(same_run_figures(s1.summary, r1.summary),
+               (SimpleString("simulate != replay (figures): ") + what).asCharString());
     CHECK_EQUAL(c.a_u.size(), s1.summary.samples);
     saturated_cases += saturated > 0 ? 1 : 0;
     rows += c.a_u.size();
@@ -212,7 +219,8 @@ TEST(SimulateReplayProperty, SimulateEqualsReplayBitForBitAndRunsRepeat) {
   test::note_margin("simulate == replay: double cases compared", compared[0], kCases / 3);
   test::note_margin("simulate == replay: float cases compared", compared[1], kCases / 3);
   test::note_margin("simulate == replay: fixed-point cases compared", compared[2], kCases / 3);
-  test::note_margin("simulate == replay: cases with a saturated input sample", saturated_cases, 0.0);
+  test::note_margin("simulate == replay: cases with a saturated input sample", saturated_cases,
+                    0.0);
   test::note_margin("simulate == replay: refused by configure() on both paths", refused, 0.0);
   test::note_margin("simulate == replay: rows compared", static_cast<double>(rows), 0.0);
 }

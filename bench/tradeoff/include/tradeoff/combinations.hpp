@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "stickslip/core/params.hpp"
-#include "stickslip/host/simulation.hpp"
+#include "stickslip/host/run/simulation.hpp"
 #include "tradeoff/scenes.hpp"
 
 namespace stickslip::tradeoff {
@@ -22,9 +22,9 @@ struct ModelChoice {
 
 // Boost.Odeint peers: how a user would solve the scene without this library.
 enum class PeerKind : unsigned char {
-  rk4_smooth,      // runge_kutta4, one fixed step per sample, smoothed signum (tanh, c = 1000)
-  dopri5_smooth,   // controlled runge_kutta_dopri5 over each sample interval, the same model
-  dopri5_events,   // controlled dopri5 + bisection on v_r = 0 and |F_L| = F_fs, stick-slip
+  rk4_smooth,     // runge_kutta4, one fixed step per sample, smoothed signum (tanh, c = 1000)
+  dopri5_smooth,  // controlled runge_kutta_dopri5 over each sample interval, the same model
+  dopri5_events,  // controlled dopri5 + bisection on v_r = 0 and |F_L| = F_fs, stick-slip
 };
 const char* peer_integrator_name(PeerKind kind) noexcept;  // "odeint-rk4", ...
 const char* peer_model_name(PeerKind kind) noexcept;       // "smooth-tanh" or "stick-slip"
@@ -84,7 +84,6 @@ bool own_reference_differs(const Scene& scene, const ModelChoice& model) noexcep
 
 // Identifies a combination across the timed run and the callgrind run.
 std::string combination_key(const std::string& scene, const std::string& model,
-                            const std::string& integrator, const std::string& scalar,
-                            double dt_ms);
+                            const std::string& integrator, const std::string& scalar, double dt_ms);
 
 }  // namespace stickslip::tradeoff

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "stickslip/core/params.hpp"
-#include "stickslip/host/simulation.hpp"
+#include "stickslip/host/run/simulation.hpp"
 #include "tradeoff/combinations.hpp"
 #include "tradeoff/reference.hpp"
 #include "tradeoff/stream_loop.hpp"
@@ -31,8 +31,8 @@ struct Outcome {
 
 // Errors of a trace against a reference (both one row per input sample).
 struct Errors {
-  double transmissibility_rel = 0.0;      // |T_ax - T_ax,ref| / T_ax,ref
-  std::optional<double> stick_prob_abs;   // |p - p_ref|, for models with a stuck state
+  double transmissibility_rel = 0.0;        // |T_ax - T_ax,ref| / T_ax,ref
+  std::optional<double> stick_prob_abs;     // |p - p_ref|, for models with a stuck state
   double a_x_rms = 0.0, a_x_rms_rel = 0.0;  // RMS(a_x - a_x,ref), and over RMS(a_x,ref)
   double x_r_rms = 0.0, x_r_rms_rel = 0.0;
 };

@@ -11,8 +11,8 @@ namespace stickslip::tradeoff {
 
 struct Reference {
   std::vector<double> x_r_m, a_x_m_per_s2;  // one per input sample, [0] = initial state
-  double transmissibility = 0.0;           // RMS(a_x)/RMS(a_u) over the same rows as a run's
-  double stick_probability = 0.0;          // time stuck / total time
+  double transmissibility = 0.0;            // RMS(a_x)/RMS(a_u) over the same rows as a run's
+  double stick_probability = 0.0;           // time stuck / total time
   std::uint64_t events = 0;
   double solve_seconds = 0.0;  // wall time of the solve (reported, not part of any result)
 };

@@ -8,9 +8,10 @@
 namespace stickslip::tradeoff {
 
 struct ReportRequest {
-  std::string results_csv;      // the run's CSV
-  std::string results_link;     // how the .md links to it (relative to the .md)
-  std::string machine_file;     // "key: value" lines: cpu, cores, os, compiler, flags, date, commit ...
+  std::string results_csv;   // the run's CSV
+  std::string results_link;  // how the .md links to it (relative to the .md)
+  std::string
+      machine_file;  // "key: value" lines: cpu, cores, os, compiler, flags, date, commit ...
   std::string profile_dump;     // callgrind dump of the headline configuration (optional)
   std::string bench_step_text;  // stickslip_bench_step console output (optional)
   std::string bench_step_json;  // the same run's --benchmark_out JSON (optional)

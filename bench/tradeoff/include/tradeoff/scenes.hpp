@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "stickslip/core/params.hpp"
-#include "stickslip/host/signal_generator.hpp"
+#include "stickslip/host/signals/signal_generator.hpp"
 
 namespace stickslip::tradeoff {
 
@@ -34,7 +34,7 @@ struct SceneOptions {
   std::vector<double> dampings_ns_per_m{504.0, 0.0};
   double duration_s = 20.0;
   double rms_m_per_s2 = 0.35;
-  double harmonic_hz = 1.8;  // near the 1.82 Hz resonance of the reference system
+  double harmonic_hz = 1.8;                 // near the 1.82 Hz resonance of the reference system
   double stribeck_ratio = 1.3;              // F_fs / F_fk in Stribeck scenes
   double stribeck_velocity_m_per_s = 0.01;  // v_S
   std::uint64_t seed = 1;

@@ -71,7 +71,8 @@ TimingResult time_stream(Model& model, const std::vector<T>& a_u, const Timing& 
   std::vector<double> ns;
   for (int r = 0; r < timing.repetitions; ++r) {
     start = Clock::now();
-    for (int pass = 0; pass < passes; ++pass) keep(stream(model, a_u.data(), a_u.size(), statistics));
+    for (int pass = 0; pass < passes; ++pass)
+      keep(stream(model, a_u.data(), a_u.size(), statistics));
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     ns.push_back(seconds * 1e9 / (static_cast<double>(passes) * static_cast<double>(steps)));
   }
@@ -114,7 +115,8 @@ RunTrace trace_stream(Model& model, const std::vector<T>& a_u, bool has_stick_st
     trace.events += out.events;
     trace.x_r_m[n] = static_cast<double>(out.x_r_m);
     trace.a_x_m_per_s2[n] = static_cast<double>(out.a_x_m_per_s2);
-    if (!std::isfinite(trace.x_r_m[n]) || !std::isfinite(trace.a_x_m_per_s2[n])) trace.finite = false;
+    if (!std::isfinite(trace.x_r_m[n]) || !std::isfinite(trace.a_x_m_per_s2[n]))
+      trace.finite = false;
   }
   trace.transmissibility = statistics.transmissibility();
   trace.stick_probability = statistics.stick_probability();

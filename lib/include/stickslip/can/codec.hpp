@@ -24,7 +24,8 @@
 
 namespace stickslip::can {
 
-inline constexpr std::uint8_t kPayloadLength = 8;  // every stickslip message is a full classic frame
+inline constexpr std::uint8_t kPayloadLength =
+    8;  // every stickslip message is a full classic frame
 inline constexpr std::int16_t kSignedNotAvailable = -32768;
 inline constexpr std::uint16_t kUnsignedNotAvailable = 0xFFFFu;
 inline constexpr std::int16_t kSignedMax = 32767;
@@ -40,35 +41,40 @@ struct SignalSpec {
 // Four flag bits (byte 1, bits 4..7); name nullptr where a bit is unused (always sent as 0).
 struct MessageSpec {
   const char* name;
-  std::uint32_t id;        // 11-bit identifier
-  std::uint16_t data_id;   // E2E data ID folded into the CRC, never transmitted
-  SignalSpec signals[2];   // bytes 4-5 and 6-7
+  std::uint32_t id;       // 11-bit identifier
+  std::uint16_t data_id;  // E2E data ID folded into the CRC, never transmitted
+  SignalSpec signals[2];  // bytes 4-5 and 6-7
   const char* flags[4];
 };
 
 // Cab-floor acceleration in (host or sensor -> ECU), one sample per frame at 1 kHz.
-inline constexpr MessageSpec kSeatInput{
-    "SeatInput", 0x100, 0x5A10,
-    {{"a_u", true, 10, "m/s^2"}, {"a_seat", true, 10, "m/s^2"}},
-    {"a_u_saturated", "a_seat_saturated", nullptr, nullptr}};
+inline constexpr MessageSpec kSeatInput{"SeatInput",
+                                        0x100,
+                                        0x5A10,
+                                        {{"a_u", true, 10, "m/s^2"}, {"a_seat", true, 10, "m/s^2"}},
+                                        {"a_u_saturated", "a_seat_saturated", nullptr, nullptr}};
 // ECU outputs, every sample.
-inline constexpr MessageSpec kSeatMotion{
-    "SeatMotion", 0x180, 0x5A80,
-    {{"a_x", true, 10, "m/s^2"}, {"x_r", true, 16, "m"}},
-    {"stuck", "held", "resync", "saturated"}};
-inline constexpr MessageSpec kSeatForce{
-    "SeatForce", 0x181, 0x5A81,
-    {{"v_r", true, 12, "m/s"}, {"f_f", true, 6, "N"}},
-    {"stuck", "held", "resync", "saturated"}};
+inline constexpr MessageSpec kSeatMotion{"SeatMotion",
+                                         0x180,
+                                         0x5A80,
+                                         {{"a_x", true, 10, "m/s^2"}, {"x_r", true, 16, "m"}},
+                                         {"stuck", "held", "resync", "saturated"}};
+inline constexpr MessageSpec kSeatForce{"SeatForce",
+                                        0x181,
+                                        0x5A81,
+                                        {{"v_r", true, 12, "m/s"}, {"f_f", true, 6, "N"}},
+                                        {"stuck", "held", "resync", "saturated"}};
 // ECU running statistics, every Nth sample (10 by default: 100 Hz).
-inline constexpr MessageSpec kSeatStats{
-    "SeatStats", 0x182, 0x5A82,
-    {{"T_ax", false, 12, ""}, {"p_stick", false, 15, ""}},
-    {nullptr, nullptr, nullptr, "saturated"}};
-inline constexpr MessageSpec kSeatScene{
-    "SeatScene", 0x183, 0x5A83,
-    {{"K", false, 10, ""}, {"faults", false, 0, "frames"}},
-    {nullptr, nullptr, nullptr, "saturated"}};
+inline constexpr MessageSpec kSeatStats{"SeatStats",
+                                        0x182,
+                                        0x5A82,
+                                        {{"T_ax", false, 12, ""}, {"p_stick", false, 15, ""}},
+                                        {nullptr, nullptr, nullptr, "saturated"}};
+inline constexpr MessageSpec kSeatScene{"SeatScene",
+                                        0x183,
+                                        0x5A83,
+                                        {{"K", false, 10, ""}, {"faults", false, 0, "frames"}},
+                                        {nullptr, nullptr, nullptr, "saturated"}};
 
 inline constexpr const MessageSpec* kMessages[] = {&kSeatInput, &kSeatMotion, &kSeatForce,
                                                    &kSeatStats, &kSeatScene};
@@ -87,9 +93,9 @@ enum OutputFlag : std::uint8_t {
 // The decoded 8 bytes: header fields and the two raw 16-bit signal words.
 struct Payload {
   std::uint16_t sample_counter = 0;
-  std::uint8_t alive_counter = 0;  // 0..15
-  std::uint8_t flags = 0;          // 0..15
-  std::uint16_t words[2] = {0, 0}; // raw signals (two's complement where signed)
+  std::uint8_t alive_counter = 0;   // 0..15
+  std::uint8_t flags = 0;           // 0..15
+  std::uint16_t words[2] = {0, 0};  // raw signals (two's complement where signed)
 };
 
 struct Quantised {
@@ -97,7 +103,9 @@ struct Quantised {
   bool saturated;      // the value was outside the range and was clipped
 };
 
-inline std::uint16_t signed_word(std::int16_t raw) noexcept { return static_cast<std::uint16_t>(raw); }
+inline std::uint16_t signed_word(std::int16_t raw) noexcept {
+  return static_cast<std::uint16_t>(raw);
+}
 inline std::int16_t word_as_signed(std::uint16_t word) noexcept {
   // Two's complement without implementation-defined conversion.
   return word < 0x8000u ? static_cast<std::int16_t>(word)
@@ -127,7 +135,8 @@ Quantised quantise(const SignalSpec& signal, T value) noexcept {
 }
 
 inline bool not_available(const SignalSpec& signal, std::uint16_t word) noexcept {
-  return signal.is_signed ? word == signed_word(kSignedNotAvailable) : word == kUnsignedNotAvailable;
+  return signal.is_signed ? word == signed_word(kSignedNotAvailable)
+                          : word == kUnsignedNotAvailable;
 }
 
 // Raw word -> physical value, exact; NaN for the not-available code.
@@ -141,7 +150,8 @@ T physical(const SignalSpec& signal, std::uint16_t word) noexcept {
 // Writes the 8 bytes of `message` (CRC included).
 inline void encode_payload(const MessageSpec& message, const Payload& payload,
                            std::uint8_t out[kPayloadLength]) noexcept {
-  out[1] = static_cast<std::uint8_t>((payload.alive_counter & 0x0Fu) | ((payload.flags & 0x0Fu) << 4));
+  out[1] =
+      static_cast<std::uint8_t>((payload.alive_counter & 0x0Fu) | ((payload.flags & 0x0Fu) << 4));
   out[2] = static_cast<std::uint8_t>(payload.sample_counter & 0xFFu);
   out[3] = static_cast<std::uint8_t>(payload.sample_counter >> 8);
   out[4] = static_cast<std::uint8_t>(payload.words[0] & 0xFFu);

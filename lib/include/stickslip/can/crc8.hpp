@@ -19,9 +19,10 @@ constexpr std::uint8_t crc8_sae_j1850_update(std::uint8_t register_value, const 
   for (std::size_t i = 0; i < size; ++i) {
     register_value = static_cast<std::uint8_t>(register_value ^ data[i]);
     for (int bit = 0; bit < 8; ++bit) {
-      register_value = (register_value & 0x80u)
-                           ? static_cast<std::uint8_t>((register_value << 1) ^ kCrc8SaeJ1850Polynomial)
-                           : static_cast<std::uint8_t>(register_value << 1);
+      register_value =
+          (register_value & 0x80u)
+              ? static_cast<std::uint8_t>((register_value << 1) ^ kCrc8SaeJ1850Polynomial)
+              : static_cast<std::uint8_t>(register_value << 1);
     }
   }
   return register_value;

@@ -21,9 +21,9 @@ enum FrameFlag : std::uint8_t {
 };
 
 struct Frame {
-  std::uint32_t id = 0;      // identifier, 11 bits unless flags has kExtendedId
-  std::uint8_t length = 0;   // data bytes: 0..8 classic, 0..64 FD (the DLC as a byte count)
-  std::uint8_t flags = 0;    // FrameFlag bits
+  std::uint32_t id = 0;     // identifier, 11 bits unless flags has kExtendedId
+  std::uint8_t length = 0;  // data bytes: 0..8 classic, 0..64 FD (the DLC as a byte count)
+  std::uint8_t flags = 0;   // FrameFlag bits
   std::uint8_t data[kFdMaxLength] = {};
   std::uint64_t timestamp_ns = 0;  // receive time from the port (0: unknown); not part of the frame
 };

@@ -46,18 +46,30 @@ enum class FrameVerdict : std::uint8_t {
 
 constexpr const char* frame_verdict_name(FrameVerdict verdict) noexcept {
   switch (verdict) {
-    case FrameVerdict::accepted: return "accepted";
-    case FrameVerdict::ignored_output: return "ignored_output";
-    case FrameVerdict::duplicate: return "duplicate";
-    case FrameVerdict::out_of_order: return "out_of_order";
-    case FrameVerdict::bad_crc: return "bad_crc";
-    case FrameVerdict::wrong_length: return "wrong_length";
-    case FrameVerdict::unknown_id: return "unknown_id";
-    case FrameVerdict::can_fd: return "can_fd";
-    case FrameVerdict::error_frame: return "error_frame";
-    case FrameVerdict::remote_frame: return "remote_frame";
-    case FrameVerdict::alive_mismatch: return "alive_mismatch";
-    case FrameVerdict::invalid_signal: return "invalid_signal";
+    case FrameVerdict::accepted:
+      return "accepted";
+    case FrameVerdict::ignored_output:
+      return "ignored_output";
+    case FrameVerdict::duplicate:
+      return "duplicate";
+    case FrameVerdict::out_of_order:
+      return "out_of_order";
+    case FrameVerdict::bad_crc:
+      return "bad_crc";
+    case FrameVerdict::wrong_length:
+      return "wrong_length";
+    case FrameVerdict::unknown_id:
+      return "unknown_id";
+    case FrameVerdict::can_fd:
+      return "can_fd";
+    case FrameVerdict::error_frame:
+      return "error_frame";
+    case FrameVerdict::remote_frame:
+      return "remote_frame";
+    case FrameVerdict::alive_mismatch:
+      return "alive_mismatch";
+    case FrameVerdict::invalid_signal:
+      return "invalid_signal";
   }
   return "unknown";
 }
@@ -77,10 +89,10 @@ struct FaultCounters {
   std::uint64_t remote_frame = 0;
   std::uint64_t alive_mismatch = 0;
   std::uint64_t invalid_signal = 0;
-  std::uint64_t resync = 0;          // gaps beyond max_gap (or an implausible jump)
-  std::uint64_t skipped = 0;         // frames missing across forward resyncs (not filled in)
-  std::uint64_t silence = 0;         // periods without an accepted frame beyond the timeout
-  std::uint64_t held_samples = 0;    // samples the node filled in (lost + invalid_signal)
+  std::uint64_t resync = 0;            // gaps beyond max_gap (or an implausible jump)
+  std::uint64_t skipped = 0;           // frames missing across forward resyncs (not filled in)
+  std::uint64_t silence = 0;           // periods without an accepted frame beyond the timeout
+  std::uint64_t held_samples = 0;      // samples the node filled in (lost + invalid_signal)
   std::uint64_t sender_saturated = 0;  // accepted frames whose sender clipped a_u
 
   // Frames refused or missing: everything but accepted and ignored_output.
@@ -93,16 +105,16 @@ struct FaultCounters {
 
 struct CheckResult {
   FrameVerdict verdict = FrameVerdict::unknown_id;
-  std::uint16_t lost_samples = 0;  // accepted: samples lost just before this one (to be held)
+  std::uint16_t lost_samples = 0;     // accepted: samples lost just before this one (to be held)
   std::uint16_t skipped_samples = 0;  // accepted after a forward resync: samples not filled in
-  bool resync = false;             // accepted after a gap beyond max_gap
-  bool hold = false;               // invalid_signal: the node holds the last sample for this one
-  Payload payload;                 // accepted / invalid_signal: the decoded SeatInput fields
+  bool resync = false;                // accepted after a gap beyond max_gap
+  bool hold = false;                  // invalid_signal: the node holds the last sample for this one
+  Payload payload;                    // accepted / invalid_signal: the decoded SeatInput fields
 };
 
 struct CheckerConfig {
-  std::uint16_t max_gap = 100;                    // samples held at most per gap (0.1 s at 1 kHz)
-  std::uint64_t silence_timeout_ns = 100000000;   // 0.1 s without an accepted frame: silence
+  std::uint16_t max_gap = 100;                   // samples held at most per gap (0.1 s at 1 kHz)
+  std::uint64_t silence_timeout_ns = 100000000;  // 0.1 s without an accepted frame: silence
 };
 
 class ReceiveChecker {
@@ -136,7 +148,8 @@ class ReceiveChecker {
   // accepted frame) once the stream has started (waiting for the first frame is not a fault).
   // Returns true when this call started a silence.
   bool check_silence(std::uint64_t now_ns) noexcept {
-    if (!synced_ || silent_ || now_ns - last_activity_ns_ <= config_.silence_timeout_ns) return false;
+    if (!synced_ || silent_ || now_ns - last_activity_ns_ <= config_.silence_timeout_ns)
+      return false;
     silent_ = true;
     ++counters_.silence;
     return true;
@@ -226,22 +239,43 @@ class ReceiveChecker {
         ++c.accepted;
         if (result.payload.flags & kAuSaturated) ++c.sender_saturated;
         break;
-      case FrameVerdict::ignored_output: ++c.ignored_output; break;
-      case FrameVerdict::duplicate: ++c.duplicate; break;
-      case FrameVerdict::out_of_order: ++c.out_of_order; break;
-      case FrameVerdict::bad_crc: ++c.bad_crc; break;
-      case FrameVerdict::wrong_length: ++c.wrong_length; break;
-      case FrameVerdict::unknown_id: ++c.unknown_id; break;
-      case FrameVerdict::can_fd: ++c.can_fd; break;
-      case FrameVerdict::error_frame: ++c.error_frame; break;
-      case FrameVerdict::remote_frame: ++c.remote_frame; break;
-      case FrameVerdict::alive_mismatch: ++c.alive_mismatch; break;
+      case FrameVerdict::ignored_output:
+        ++c.ignored_output;
+        break;
+      case FrameVerdict::duplicate:
+        ++c.duplicate;
+        break;
+      case FrameVerdict::out_of_order:
+        ++c.out_of_order;
+        break;
+      case FrameVerdict::bad_crc:
+        ++c.bad_crc;
+        break;
+      case FrameVerdict::wrong_length:
+        ++c.wrong_length;
+        break;
+      case FrameVerdict::unknown_id:
+        ++c.unknown_id;
+        break;
+      case FrameVerdict::can_fd:
+        ++c.can_fd;
+        break;
+      case FrameVerdict::error_frame:
+        ++c.error_frame;
+        break;
+      case FrameVerdict::remote_frame:
+        ++c.remote_frame;
+        break;
+      case FrameVerdict::alive_mismatch:
+        ++c.alive_mismatch;
+        break;
       case FrameVerdict::invalid_signal:
         ++c.invalid_signal;
         if (result.hold) ++c.held_samples;
         break;
     }
-    if (result.verdict == FrameVerdict::accepted || result.verdict == FrameVerdict::invalid_signal) {
+    if (result.verdict == FrameVerdict::accepted ||
+        result.verdict == FrameVerdict::invalid_signal) {
       c.lost += result.lost_samples;
       c.held_samples += result.lost_samples;
       c.skipped += result.skipped_samples;

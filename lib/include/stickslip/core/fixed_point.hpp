@@ -7,7 +7,7 @@
 // template source must not know per-variable scales. 23 integer bits hold +-8.4e6 (forces, k, m,
 // 1/dt); 40 fraction bits resolve 9.1e-13 (x_r in metres, the map coefficients). configure()
 // checks both ends for the scene and refuses it, naming the quantity, where a value would not fit
-// (core/fixed_point_scaling.hpp).
+// (integrators/fixed_point_scaling.hpp).
 //
 // @par Scaling and overflow (every operation; a, b in Q23.40, raw values r_a, r_b in int64)
 // - Range: the raw value is kept in [-(2^63 - 1), 2^63 - 1], symmetric, so negation and abs never
@@ -58,7 +58,9 @@ inline thread_local bool saturated = false;
 
 // Not constexpr on purpose: reaching it in a constant expression (an out-of-range literal) is a
 // compile error; at run time it sets the sticky flag.
-inline void flag_saturation() noexcept { saturated = true; }
+inline void flag_saturation() noexcept {
+  saturated = true;
+}
 
 constexpr std::int64_t kMaxRaw = INT64_MAX;
 
@@ -84,7 +86,8 @@ struct Wide {
 // Exact a * b for 32-bit a, b. ARMv6-M (Cortex-M0/M0+) has only a 32 x 32 -> 32-bit multiply,
 // and the compiler would call its 64 x 64 -> 64-bit library routine: four 16 x 16 -> 32-bit
 // products instead, inline. Elsewhere (UMULL, x86-64) the compiler's product is one instruction.
-STICKSLIP_FIXED_INLINE constexpr std::uint64_t multiply_32x32(std::uint32_t a, std::uint32_t b) noexcept {
+STICKSLIP_FIXED_INLINE constexpr std::uint64_t multiply_32x32(std::uint32_t a,
+                                                              std::uint32_t b) noexcept {
 #if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
   const std::uint32_t a0 = a & 0xffffu, a1 = a >> 16, b0 = b & 0xffffu, b1 = b >> 16;
   const std::uint32_t p00 = a0 * b0, p01 = a0 * b1, p10 = a1 * b0, p11 = a1 * b1;
@@ -113,7 +116,8 @@ STICKSLIP_FIXED_INLINE constexpr Wide multiply_wide(std::uint64_t a, std::uint64
 }
 
 // round(w / 2^shift), ties away from zero (w is a magnitude), 0 < shift < 64; saturates at kMaxRaw.
-STICKSLIP_FIXED_INLINE constexpr std::int64_t round_shift_magnitude(Wide w, int shift, bool& overflow) noexcept {
+STICKSLIP_FIXED_INLINE constexpr std::int64_t round_shift_magnitude(Wide w, int shift,
+                                                                    bool& overflow) noexcept {
   const std::uint64_t half = std::uint64_t{1} << (shift - 1);
   const std::uint64_t lo = w.lo + half;
   const std::uint64_t hi = w.hi + (lo < half ? 1u : 0u);
@@ -190,7 +194,8 @@ STICKSLIP_FIXED_KERNEL constexpr std::int64_t add_raw(std::int64_t a, std::int64
 
 // round(a b / 2^F), ties away from zero, saturated.
 template <int F>
-STICKSLIP_FIXED_KERNEL constexpr std::int64_t multiply_raw(std::int64_t a, std::int64_t b) noexcept {
+STICKSLIP_FIXED_KERNEL constexpr std::int64_t multiply_raw(std::int64_t a,
+                                                           std::int64_t b) noexcept {
   // Exact shortcuts (the same result as the general path): the step multiplies by a direction
   // +-1 and by zero state components often.
   constexpr std::int64_t one = std::int64_t{1} << F;
@@ -200,7 +205,8 @@ STICKSLIP_FIXED_KERNEL constexpr std::int64_t multiply_raw(std::int64_t a, std::
   if (a == one) return b;
   if (a == -one) return -b;
   bool overflow = false;
-  const std::int64_t q = round_shift_magnitude(multiply_wide(magnitude(a), magnitude(b)), F, overflow);
+  const std::int64_t q =
+      round_shift_magnitude(multiply_wide(magnitude(a), magnitude(b)), F, overflow);
   if (overflow) flag_saturation();
   return (a < 0) != (b < 0) ? -q : q;
 }
@@ -214,9 +220,9 @@ STICKSLIP_FIXED_KERNEL constexpr std::int64_t divide_raw(std::int64_t a, std::in
   }
   const bool negative = (a < 0) != (b < 0);
   const std::uint64_t ua = magnitude(a), ub = magnitude(b);
-  const int zeros = count_leading_zeros(ub);     // >= 1
-  const std::uint64_t m = (ub << zeros) >> 32;   // b's leading 32 bits, in [2^31, 2^32)
-  const std::uint64_t r = reciprocal_q31(m);     // 2^63 / m
+  const int zeros = count_leading_zeros(ub);    // >= 1
+  const std::uint64_t m = (ub << zeros) >> 32;  // b's leading 32 bits, in [2^31, 2^32)
+  const std::uint64_t r = reciprocal_q31(m);    // 2^63 / m
   // b ~= m 2^(32 - zeros), so a / b * 2^F ~= ua r 2^(zeros - 95 + F).
   const Wide product = multiply_wide(ua, r);
   const int shift = 95 - F - zeros;
@@ -265,7 +271,9 @@ inline bool take_fixed_point_saturation() noexcept {
   return was;
 }
 // Reads the flag without clearing it.
-inline bool fixed_point_saturated() noexcept { return fixed_point_detail::saturated; }
+inline bool fixed_point_saturated() noexcept {
+  return fixed_point_detail::saturated;
+}
 
 template <int FractionBits>
 class FixedPoint {
@@ -287,7 +295,8 @@ class FixedPoint {
   constexpr explicit FixedPoint(int value) noexcept : raw_(from_integer(value)) {}
   constexpr explicit FixedPoint(unsigned value) noexcept
       : raw_(from_integer(static_cast<std::int64_t>(value))) {}
-  // Rounds to nearest, ties away from zero; saturates and flags out of range (NaN gives 0, flagged).
+  // Rounds to nearest, ties away from zero; saturates and flags out of range (NaN gives 0,
+  // flagged).
   constexpr explicit FixedPoint(double value) noexcept : raw_(from_real(value)) {}
 
   static constexpr FixedPoint from_raw(Raw raw) noexcept {
@@ -311,19 +320,23 @@ class FixedPoint {
     return static_cast<unsigned>(whole);
   }
 
-  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator+(FixedPoint a, FixedPoint b) noexcept {
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator+(FixedPoint a,
+                                                               FixedPoint b) noexcept {
     return exactly(fixed_point_detail::add_raw(a.raw_, b.raw_));
   }
-  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator-(FixedPoint a, FixedPoint b) noexcept {
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator-(FixedPoint a,
+                                                               FixedPoint b) noexcept {
     return exactly(fixed_point_detail::add_raw(a.raw_, -b.raw_));
   }
   friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator-(FixedPoint a) noexcept {
     return exactly(-a.raw_);
   }
-  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator*(FixedPoint a, FixedPoint b) noexcept {
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator*(FixedPoint a,
+                                                               FixedPoint b) noexcept {
     return exactly(fixed_point_detail::multiply_raw<FractionBits>(a.raw_, b.raw_));
   }
-  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator/(FixedPoint a, FixedPoint b) noexcept {
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint operator/(FixedPoint a,
+                                                               FixedPoint b) noexcept {
     return exactly(fixed_point_detail::divide_raw<FractionBits>(a.raw_, b.raw_));
   }
   constexpr FixedPoint& operator+=(FixedPoint b) noexcept { return *this = *this + b; }

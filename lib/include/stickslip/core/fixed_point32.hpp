@@ -54,7 +54,8 @@ STICKSLIP_FIXED_KERNEL constexpr std::int32_t add_raw32(std::int32_t a, std::int
 
 // round(a b / 2^F), ties away from zero, saturated.
 template <int F>
-STICKSLIP_FIXED_KERNEL constexpr std::int32_t multiply_raw32(std::int32_t a, std::int32_t b) noexcept {
+STICKSLIP_FIXED_KERNEL constexpr std::int32_t multiply_raw32(std::int32_t a,
+                                                             std::int32_t b) noexcept {
   const bool negative = (a < 0) != (b < 0);
   const auto ua = static_cast<std::uint32_t>(a < 0 ? -a : a);
   const auto ub = static_cast<std::uint32_t>(b < 0 ? -b : b);
@@ -69,7 +70,8 @@ STICKSLIP_FIXED_KERNEL constexpr std::int32_t multiply_raw32(std::int32_t a, std
 
 // (a 2^F) / b truncated toward zero, saturated (the rational friction law only).
 template <int F>
-STICKSLIP_FIXED_KERNEL constexpr std::int32_t divide_raw32(std::int32_t a, std::int32_t b) noexcept {
+STICKSLIP_FIXED_KERNEL constexpr std::int32_t divide_raw32(std::int32_t a,
+                                                           std::int32_t b) noexcept {
   if (b == 0) {
     flag_saturation();
     return a == 0 ? 0 : (a < 0 ? -kMaxRaw32 : kMaxRaw32);
@@ -94,10 +96,11 @@ class FixedPoint32 {
   static constexpr double resolution() noexcept { return 1.0 / kScale; }
 
   constexpr FixedPoint32() noexcept = default;
-  STICKSLIP_FIXED_INLINE constexpr explicit FixedPoint32(int value) noexcept : raw_(from_integer(value)) {}
+  STICKSLIP_FIXED_INLINE constexpr explicit FixedPoint32(int value) noexcept
+      : raw_(from_integer(value)) {}
   constexpr explicit FixedPoint32(unsigned value) noexcept
       : raw_(from_integer(value > static_cast<unsigned>(INT32_MAX) ? std::int64_t{INT32_MAX}
-                                                                    : std::int64_t{value})) {}
+                                                                   : std::int64_t{value})) {}
   constexpr explicit FixedPoint32(double value) noexcept : raw_(from_real(value)) {}
 
   static constexpr FixedPoint32 from_raw(Raw raw) noexcept {
@@ -116,30 +119,46 @@ class FixedPoint32 {
     return static_cast<unsigned>(raw_) >> FractionBits;
   }
 
-  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator+(FixedPoint32 a, FixedPoint32 b) noexcept {
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator+(FixedPoint32 a,
+                                                                 FixedPoint32 b) noexcept {
     return exactly(fixed_point_detail::add_raw32(a.raw_, b.raw_));
   }
-  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator-(FixedPoint32 a, FixedPoint32 b) noexcept {
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator-(FixedPoint32 a,
+                                                                 FixedPoint32 b) noexcept {
     return exactly(fixed_point_detail::add_raw32(a.raw_, -b.raw_));
   }
   friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator-(FixedPoint32 a) noexcept {
     return exactly(-a.raw_);
   }
-  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator*(FixedPoint32 a, FixedPoint32 b) noexcept {
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator*(FixedPoint32 a,
+                                                                 FixedPoint32 b) noexcept {
     return exactly(fixed_point_detail::multiply_raw32<FractionBits>(a.raw_, b.raw_));
   }
-  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator/(FixedPoint32 a, FixedPoint32 b) noexcept {
+  friend STICKSLIP_FIXED_INLINE constexpr FixedPoint32 operator/(FixedPoint32 a,
+                                                                 FixedPoint32 b) noexcept {
     return exactly(fixed_point_detail::divide_raw32<FractionBits>(a.raw_, b.raw_));
   }
   constexpr FixedPoint32& operator+=(FixedPoint32 b) noexcept { return *this = *this + b; }
   constexpr FixedPoint32& operator-=(FixedPoint32 b) noexcept { return *this = *this - b; }
   constexpr FixedPoint32& operator*=(FixedPoint32 b) noexcept { return *this = *this * b; }
-  friend constexpr bool operator==(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ == b.raw_; }
-  friend constexpr bool operator!=(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ != b.raw_; }
-  friend constexpr bool operator<(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ < b.raw_; }
-  friend constexpr bool operator>(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ > b.raw_; }
-  friend constexpr bool operator<=(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ <= b.raw_; }
-  friend constexpr bool operator>=(FixedPoint32 a, FixedPoint32 b) noexcept { return a.raw_ >= b.raw_; }
+  friend constexpr bool operator==(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return a.raw_ == b.raw_;
+  }
+  friend constexpr bool operator!=(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return a.raw_ != b.raw_;
+  }
+  friend constexpr bool operator<(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return a.raw_ < b.raw_;
+  }
+  friend constexpr bool operator>(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return a.raw_ > b.raw_;
+  }
+  friend constexpr bool operator<=(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return a.raw_ <= b.raw_;
+  }
+  friend constexpr bool operator>=(FixedPoint32 a, FixedPoint32 b) noexcept {
+    return a.raw_ >= b.raw_;
+  }
 
  private:
   static constexpr FixedPoint32 exactly(Raw raw) noexcept {

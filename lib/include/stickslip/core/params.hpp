@@ -11,7 +11,8 @@ enum class FrictionModel : std::uint8_t {
   signum,      // F_f = F_fk * sgn(v_r), sgn(0) = 0: cheap, chatters once the mass should stick
   smooth,      // F_f = F_fk * s(c v_r) with one of the SmoothingLaw forms
   stick_slip,  // sticks while |F_L| <= F_fs, kinetic F_fk while slipping; events inside the step
-  stribeck,    // [F_fk + (F_fs - F_fk) exp(-(v_r/v_S)^2)] sgn(v_r) while slipping, stick logic as above
+  stribeck,    // [F_fk + (F_fs - F_fk) exp(-(v_r/v_S)^2)] sgn(v_r) while slipping, stick logic as
+               // above
 };
 
 enum class SmoothingLaw : std::uint8_t {
@@ -41,8 +42,9 @@ struct OscillatorParams {
   FrictionModel model = FrictionModel::stick_slip;
   Integrator integrator = Integrator::exact;
   // Fixed point only (Oscillator<Fixed, ...>): the ranges its scaling must hold. configure()
-  // refuses a scene whose values at these ranges would not fit (core/fixed_point_scaling.hpp);
-  // beyond them a run saturates and says so (Oscillator::saturated_steps()).
+  // refuses a scene whose values at these ranges would not fit
+  // (integrators/fixed_point_scaling.hpp); beyond them a run saturates and says so
+  // (Oscillator::saturated_steps()).
   double input_range_m_per_s2 = 50.0;  // largest |a_u|
   double displacement_range_m = 1.0;   // largest |x_r|
 };

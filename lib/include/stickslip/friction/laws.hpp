@@ -16,12 +16,12 @@ enum class LawKind : unsigned char {
 
 template <typename T>
 struct FrictionCoefficients {
-  T kinetic_n;                 // F_fk
-  T static_n;                  // F_fs
-  T stribeck_excess_n;         // F_fs - F_fk
-  T inv_stribeck_velocity;     // 1/v_S, s/m
-  T smoothing_c;               // c, s/m
-  T smoothing_scale_n;         // F_fk (2/pi F_fk for the atan form)
+  T kinetic_n;              // F_fk
+  T static_n;               // F_fs
+  T stribeck_excess_n;      // F_fs - F_fk
+  T inv_stribeck_velocity;  // 1/v_S, s/m
+  T smoothing_c;            // c, s/m
+  T smoothing_scale_n;      // F_fk (2/pi F_fk for the atan form)
 };
 
 // Every law offers the same functions so that the oscillator can be instantiated uniformly:
@@ -40,7 +40,8 @@ struct NoFriction {
   template <typename T>
   static T slip_force(T /*v*/, T /*direction*/, const FrictionCoefficients<T>& /*c*/) noexcept {
     return T(0);
-  }  template <typename T>
+  }
+  template <typename T>
   static T force_at_rest(T /*limit_force_n*/, const FrictionCoefficients<T>& /*c*/) noexcept {
     return T(0);
   }

@@ -116,9 +116,7 @@ struct PaddedPolynomial {
     for (int e = 0; e > std::numeric_limits<T>::min_exponent / 2; --e) floor *= T(0.5);
     return floor;
   }
-  static T square(T a) noexcept {
-    return ScalarTraits<T>::abs(a) < square_floor() ? T(0) : a * a;
-  }
+  static T square(T a) noexcept { return ScalarTraits<T>::abs(a) < square_floor() ? T(0) : a * a; }
 };
 
 // x_r(u) = sum X[n] u^n and v_r(u) = sum V[n] u^n from a given state, u in tick units.
@@ -210,8 +208,8 @@ class TaylorSegment {
         // square underflows).
         const T size = S::abs(step);
         if (size <= tolerance ||
-            (curvature != nullptr &&
-             (S::abs((*curvature)(u)) * size) * (size * inv_tolerance) <= T(2) * S::abs(gradient))) {
+            (curvature != nullptr && (S::abs((*curvature)(u)) * size) * (size * inv_tolerance) <=
+                                         T(2) * S::abs(gradient))) {
           return next;
         }
         u = next;

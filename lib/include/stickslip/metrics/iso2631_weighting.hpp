@@ -3,10 +3,10 @@
 //
 // The analogue weighting (ISO 2631-1:1997 Annex A, the parameters as ISO 8041 tabulates them) is
 // the product of
-//   band-limiting high-pass  s^2 / (s^2 + w1 s/Q1 + w1^2)                   f1 = 0.4 Hz, Q1 = 1/sqrt2
-//   band-limiting low-pass   w2^2 / (s^2 + w2 s/Q2 + w2^2)                  f2 = 100 Hz, Q2 = 1/sqrt2
-//   a-v transition           (1 + s/w3) / (1 + s/(Q4 w4) + s^2/w4^2)
-//   upward step              (w5/w6)^2 (1 + s/(Q5 w5) + s^2/w5^2) / (1 + s/(Q6 w6) + s^2/w6^2)
+//   band-limiting high-pass  s^2 / (s^2 + w1 s/Q1 + w1^2)                   f1 = 0.4 Hz, Q1 =
+//   1/sqrt2 band-limiting low-pass   w2^2 / (s^2 + w2 s/Q2 + w2^2)                  f2 = 100 Hz, Q2
+//   = 1/sqrt2 a-v transition           (1 + s/w3) / (1 + s/(Q4 w4) + s^2/w4^2) upward step
+//   (w5/w6)^2 (1 + s/(Q5 w5) + s^2/w5^2) / (1 + s/(Q6 w6) + s^2/w6^2)
 // with Wk: f3 = f4 = 12.5 Hz, Q4 = 0.63, f5 = 2.37 Hz, Q5 = 0.91, f6 = 3.35 Hz, Q6 = 0.91;
 //      Wd: f3 = f4 = 2 Hz, Q4 = 0.63, no upward step.
 // Each section becomes a biquad with its poles mapped exactly (z = e^{pT}) and its numerator first

@@ -1,8 +1,9 @@
-// Streaming ISO 2631-1 ride-comfort figures of the seat and the floor it stands on, allocation-free:
-// frequency-weighted RMS (Wk vertical or Wd horizontal), running RMS with integration time tau
-// (1 s by default, exponential as ISO 2631-1 eq. (2) defines it) and its maximum MTVV, the fourth
-// power vibration dose value VDV = (integral a_w^4 dt)^(1/4) (m/s^1.75), the crest factor
-// (peak |a_w| over the weighted RMS), and SEAT = weighted RMS of the seat over that of the floor.
+// Streaming ISO 2631-1 ride-comfort figures of the seat and the floor it stands on,
+// allocation-free: frequency-weighted RMS (Wk vertical or Wd horizontal), running RMS with
+// integration time tau (1 s by default, exponential as ISO 2631-1 eq. (2) defines it) and its
+// maximum MTVV, the fourth power vibration dose value VDV = (integral a_w^4 dt)^(1/4) (m/s^1.75),
+// the crest factor (peak |a_w| over the weighted RMS), and SEAT = weighted RMS of the seat over
+// that of the floor.
 //
 // Per sample: two weighting cascades, a few multiply-adds, one compare; no division, no call (the
 // exponential window's coefficient 1 - exp(-dt/tau) is computed in configure()). Roots and
@@ -32,8 +33,9 @@ class RideComfort {
     seat_filter_.configure(weighting, sample_rate_hz);
     if (!std::isfinite(running_rms_time_s) || !(running_rms_time_s * sample_rate_hz >= 1.0)) {
       result.status = std::isfinite(running_rms_time_s) ? Status::out_of_range : Status::not_finite;
-      result.message.append("running_rms_time_s = ").append(running_rms_time_s).append(
-          " must be finite and at least one sample interval");
+      result.message.append("running_rms_time_s = ")
+          .append(running_rms_time_s)
+          .append(" must be finite and at least one sample interval");
       return result;
     }
     dt_s_ = 1.0 / sample_rate_hz;
@@ -83,7 +85,9 @@ class RideComfort {
     const double floor = floor_weighted_rms();
     return floor > 0.0 ? seat_weighted_rms() / floor : 0.0;
   }
-  double seat_vdv() const noexcept { return std::sqrt(std::sqrt(total(seat_4_, block_seat_4_) * dt_s_)); }
+  double seat_vdv() const noexcept {
+    return std::sqrt(std::sqrt(total(seat_4_, block_seat_4_) * dt_s_));
+  }
   double floor_vdv() const noexcept {
     return std::sqrt(std::sqrt(total(floor_4_, block_floor_4_) * dt_s_));
   }

@@ -75,7 +75,9 @@ class RunningStatistics {
     return u > 0.0 ? rms_x() / u : 0.0;
   }
   // Time stuck, for a run with step `dt_s`.
-  double stuck_time_s(double dt_s) const noexcept { return total(total_stuck_, block_stuck_) * dt_s; }
+  double stuck_time_s(double dt_s) const noexcept {
+    return total(total_stuck_, block_stuck_) * dt_s;
+  }
   // p = time stuck / total time.
   double stick_probability() const noexcept {
     return steps_ > 0 ? total(total_stuck_, block_stuck_) / static_cast<double>(steps_) : 0.0;

@@ -30,9 +30,9 @@
 namespace stickslip {
 
 struct EndStopParams {
-  double travel_m = 0.05;             // free stroke each way from x_r = 0
-  double stiffness_n_per_m = 2.0e5;   // stop stiffness k_s (added to k while in contact)
-  double damping_ns_per_m = 2.0e3;    // stop damping b_s (added to b while in contact)
+  double travel_m = 0.05;            // free stroke each way from x_r = 0
+  double stiffness_n_per_m = 2.0e5;  // stop stiffness k_s (added to k while in contact)
+  double damping_ns_per_m = 2.0e3;   // stop damping b_s (added to b while in contact)
 };
 
 // Validates the stop parameters (finite, travel > 0, k_s > 0, b_s >= 0) and, for the contact
@@ -54,8 +54,8 @@ class EndStopOscillator {
                 "end stops are modelled with no friction or with Coulomb stick-slip");
   using S = ScalarTraits<T>;
   static constexpr bool kSticking = std::is_same_v<Law, CoulombStickSlip>;
-  static constexpr unsigned kTicks = kTicksPerStep;       // 2^16 ticks per step
-  static constexpr unsigned kScanBlock = kTicks / 16;     // the event scan's block
+  static constexpr unsigned kTicks = kTicksPerStep;    // 2^16 ticks per step
+  static constexpr unsigned kScanBlock = kTicks / 16;  // the event scan's block
   static constexpr int kBudget = kMaxEventsPerStep;
 
  public:
@@ -136,7 +136,8 @@ class EndStopOscillator {
       }
     } else {
       // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
-      const T offset = inv_mass_ * (kinetic_n_ * direction_ - stop_stiffness_ * travel_ * T(contact_));
+      const T offset =
+          inv_mass_ * (kinetic_n_ * direction_ - stop_stiffness_ * travel_ * T(contact_));
       const StepMap<T>& m = maps_[contact_ != 0 ? 1 : 0][0];
       const T g0 = -(in.a0 + offset), g1 = -(in.a1 + offset);
       const T x = (m.xx * x_ + m.xv * v_) + (m.gx0 * g0 + m.gx1 * g1);
@@ -202,11 +203,14 @@ class EndStopOscillator {
     return c == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(c));
   }
   // F_L = m a_u + k x_r + F_stop(x_r): the force friction must hold for the seat to stay put.
-  T limit_force(T x, T a_u) const noexcept { return mass_kg_ * a_u + stiffness_ * x + stop_spring_force(x); }
+  T limit_force(T x, T a_u) const noexcept {
+    return mass_kg_ * a_u + stiffness_ * x + stop_spring_force(x);
+  }
 
   // Advances (x, v) from tick `from` by `count` ticks in mode (contact c, direction d), as dyadic
   // blocks (largest first): exact for the mode's linear motion with the FOH input.
-  void advance(T& x, T& v, int c, T d, unsigned from, unsigned count, const Input& in) const noexcept {
+  void advance(T& x, T& v, int c, T d, unsigned from, unsigned count,
+               const Input& in) const noexcept {
     const T offset = inv_mass_ * (kinetic_n_ * d - stop_stiffness_ * travel_ * T(c));
     const StepMap<T>* maps = maps_[c != 0 ? 1 : 0];
     unsigned at = from;
@@ -281,8 +285,10 @@ class EndStopOscillator {
       if (events >= kBudget) {
         ++event_budget_exhausted_;
         // Finish in the current mode without further events.
-        if (direction_ != T(0)) advance(x_, v_, contact_, direction_, t, kTicks - t, in);
-        else stuck_ticks += T(kTicks - t);
+        if (direction_ != T(0))
+          advance(x_, v_, contact_, direction_, t, kTicks - t, in);
+        else
+          stuck_ticks += T(kTicks - t);
         return events;
       }
       if (kSticking && direction_ == T(0)) {
@@ -378,7 +384,7 @@ class EndStopOscillator {
     const T stop = c == 0 ? T(0) : stop_stiffness_ * (x_ - travel_ * T(c)) + stop_damping_ * v_;
     if (kSticking && direction_ == T(0)) {
       o.friction_n = -limit_force(x_, a_u);  // holding force
-      o.a_x_m_per_s2 = a_u;                   // stuck: the seat moves with the floor, exactly
+      o.a_x_m_per_s2 = a_u;                  // stuck: the seat moves with the floor, exactly
       o.stuck = true;
     } else {
       o.friction_n = kinetic_n_ * direction_;

@@ -24,12 +24,12 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "stickslip/core/fixed_point_scaling.hpp"
 #include "stickslip/core/params.hpp"
 #include "stickslip/core/scalar.hpp"
 #include "stickslip/core/status.hpp"
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/integrators/discretisation.hpp"
+#include "stickslip/integrators/fixed_point_scaling.hpp"
 #include "stickslip/integrators/step_map.hpp"
 #include "stickslip/integrators/taylor_segment.hpp"
 #include "stickslip/models/whole_step.hpp"
@@ -38,13 +38,13 @@ namespace stickslip {
 
 template <typename T>
 struct StepOutput {
-  T x_r_m;           // relative displacement at the end of the step
-  T v_r_m_per_s;     // relative velocity
-  T a_x_m_per_s2;    // absolute seat acceleration; equals a_u exactly while stuck
-  T friction_n;      // friction force F_f on the seat (the holding force while stuck)
-  T stuck_time_s;    // time spent stuck inside this step
-  T stuck_fraction;  // the same as a fraction of the step, in [0, 1] (exact sums in float too)
-  bool stuck;        // stuck at the end of the step
+  T x_r_m;              // relative displacement at the end of the step
+  T v_r_m_per_s;        // relative velocity
+  T a_x_m_per_s2;       // absolute seat acceleration; equals a_u exactly while stuck
+  T friction_n;         // friction force F_f on the seat (the holding force while stuck)
+  T stuck_time_s;       // time spent stuck inside this step
+  T stuck_fraction;     // the same as a fraction of the step, in [0, 1] (exact sums in float too)
+  bool stuck;           // stuck at the end of the step
   std::uint8_t events;  // stick, break-away and reversal events inside this step
 };
 
@@ -124,8 +124,8 @@ class Oscillator {
     inv_ticks_ = S::from_double(1.0 / static_cast<double>(ticks_per_step_));  // a power of two
     tick_s_ = block_s_[event_level_];
     // The first 1/2^kEventLevels of the step after a slip starts (see slip()), in ticks.
-    start_guard_ticks_ = S::from_double(static_cast<double>(ticks_per_step_) /
-                                        static_cast<double>(kTicksPerStep));
+    start_guard_ticks_ =
+        S::from_double(static_cast<double>(ticks_per_step_) / static_cast<double>(kTicksPerStep));
     taylor_ = TaylorCoefficients<T>{};
     taylor_.order = plan.taylor_order;
     if constexpr (S::kTaylorEventSearch) {
@@ -222,9 +222,8 @@ class Oscillator {
       } else if constexpr (!Law::velocity_dependent) {
         const T force = Law::slip_force(v_, direction_, friction_);
         // inv_mass_ * force, as seat_acceleration() forms it (bit for bit the same value).
-        const WholeSlip<T> moved = whole_step_slip(maps_[0], k_over_m_, b_over_m_,
-                                                   inv_mass_ * force, x_, v_, slip_a_x_, in.a0,
-                                                   in.a1);
+        const WholeSlip<T> moved = whole_step_slip(
+            maps_[0], k_over_m_, b_over_m_, inv_mass_ * force, x_, v_, slip_a_x_, in.a0, in.a1);
         if (!slip_step_has_event(moved, direction_)) {
           x_ = moved.x;
           v_ = moved.v;
@@ -270,9 +269,9 @@ class Oscillator {
   // that state() returned for an oscillator with the same parameters.
   struct State {
     T x_r_m, v_r_m_per_s;
-    T a_u_previous;     // the input sample the next step starts from
-    T direction;        // sticking laws: 0 stuck, +1/-1 slipping
-    T held_force_n;     // held laws: friction at the start of the next step
+    T a_u_previous;      // the input sample the next step starts from
+    T direction;         // sticking laws: 0 stuck, +1/-1 slipping
+    T held_force_n;      // held laws: friction at the start of the next step
     T reported_force_n;  // held laws: friction reported with the sample
   };
   State state() const noexcept {
@@ -621,7 +620,7 @@ class Oscillator {
   // Stick-slip and Stribeck: the event loop of one step. `whole_step`: the common path's whole
   // slipping step (Coulomb), when it found an event.
   STICKSLIP_OUT_OF_LINE int step_sticking(const Input& in, T& stuck_fraction,
-                                        const WholeSlip<T>* whole_step) noexcept {
+                                          const WholeSlip<T>* whole_step) noexcept {
     Position pos{0u, T(0)};
     int events = 0;
     bool starting = false;  // a slip phase begins at pos (after break-away or reversal)
@@ -779,7 +778,7 @@ class Oscillator {
   T x_{}, v_{}, a_prev_{};
   T held_force_{};      // held laws: friction at the start of the next step
   T reported_force_{};  // held laws: friction reported with the sample
-  T direction_{};   // sticking laws: 0 stuck, +1/-1 slipping
+  T direction_{};       // sticking laws: 0 stuck, +1/-1 slipping
   // Coulomb slip: a_x at the current state with the current slip force (what the previous step
   // reported), the start of the next step's dip test. Unused while stuck.
   T slip_a_x_{};

@@ -7,10 +7,10 @@
 //   x' = x/L, v' = v dt/L, a' = a dt^2/L, c' = c L/dt (rational smoothing), v_S' = v_S dt/L.
 // The same Oscillator<T, Law> source runs on the scaled parameters; only the boundary converts.
 // L is the smallest length for which the declared ranges (OscillatorParams::input_range_m_per_s2,
-// displacement_range_m) and what the step forms at them stay within a quarter of the format's range,
-// which leaves the most fraction bits to everything else. configure() then checks every
-// coefficient's precision as for Q23.40 (core/fixed_point_scaling.hpp) and refuses, naming the
-// parameter, a scene the format cannot hold (e.g. a friction force below 2^-14 of the range).
+// displacement_range_m) and what the step forms at them stay within a quarter of the format's
+// range, which leaves the most fraction bits to everything else. configure() then checks every
+// coefficient's precision as for Q23.40 (integrators/fixed_point_scaling.hpp) and refuses, naming
+// the parameter, a scene the format cannot hold (e.g. a friction force below 2^-14 of the range).
 #pragma once
 
 #include <cmath>
@@ -18,10 +18,10 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "stickslip/core/fixed_point_scaling.hpp"
 #include "stickslip/core/params.hpp"
 #include "stickslip/core/scalar.hpp"
 #include "stickslip/core/status.hpp"
+#include "stickslip/integrators/fixed_point_scaling.hpp"
 #include "stickslip/models/oscillator.hpp"
 
 namespace stickslip {
@@ -46,11 +46,13 @@ inline SceneUnits choose_scene_units(const OscillatorParams& si, double limit) n
   const double x = si.displacement_range_m, a = si.input_range_m_per_s2;
   const double omega0 = std::sqrt(si.stiffness_n_per_m / si.mass_kg);
   const double v = omega0 * x + a / omega0;  // the bound check_fixed_point_scene uses
-  const double friction =
-      si.model == FrictionModel::linear ? 0.0 : std::fmax(si.kinetic_friction_n, si.static_friction_n);
+  const double friction = si.model == FrictionModel::linear
+                              ? 0.0
+                              : std::fmax(si.kinetic_friction_n, si.static_friction_n);
   // In lengths: x itself, v over a step, and the seat acceleration (the largest sum of the step's
   // accelerations) over a step squared.
-  const double seat = (si.stiffness_n_per_m * x + si.damping_ns_per_m * v + friction) / si.mass_kg + a;
+  const double seat =
+      (si.stiffness_n_per_m * x + si.damping_ns_per_m * v + friction) / si.mass_kg + a;
   double largest = x;
   largest = std::fmax(largest, v * dt);
   largest = std::fmax(largest, seat * dt * dt);
@@ -115,12 +117,14 @@ class CountScale {
   STICKSLIP_OUT_OF_LINE std::int64_t rounded_product(std::int32_t v) const noexcept {
     const auto magnitude = static_cast<std::uint64_t>(v < 0 ? -std::int64_t{v} : std::int64_t{v}) *
                            static_cast<std::uint32_t>(multiplier_);
-    const auto q = static_cast<std::int64_t>((magnitude + (std::uint64_t{1} << (shift_ - 1))) >> shift_);
+    const auto q =
+        static_cast<std::int64_t>((magnitude + (std::uint64_t{1} << (shift_ - 1))) >> shift_);
     return v < 0 ? -q : q;
   }
   static typename T::Raw saturate(std::int64_t v) noexcept {
     using Raw = typename T::Raw;
-    constexpr auto max = static_cast<std::int64_t>(static_cast<std::make_unsigned_t<Raw>>(~std::make_unsigned_t<Raw>{0}) >> 1);
+    constexpr auto max = static_cast<std::int64_t>(
+        static_cast<std::make_unsigned_t<Raw>>(~std::make_unsigned_t<Raw>{0}) >> 1);
     if (v > max || v < -max) {
       fixed_point_detail::flag_saturation();
       return static_cast<Raw>(v > 0 ? max : -max);
@@ -181,7 +185,9 @@ class ScaledOscillator {
   const Oscillator<T, Law>& oscillator() const noexcept { return oscillator_; }
 
   // The input a_u in units of units().acceleration_m_per_s2(); outputs in scene units.
-  STICKSLIP_INLINE_STEP StepOutput<T> step(T a_u_scaled) noexcept { return oscillator_.step(a_u_scaled); }
+  STICKSLIP_INLINE_STEP StepOutput<T> step(T a_u_scaled) noexcept {
+    return oscillator_.step(a_u_scaled);
+  }
   STICKSLIP_INLINE_STEP void step(T a_u_scaled, StepOutput<T>& out) noexcept {
     oscillator_.step(a_u_scaled, out);
   }
@@ -190,7 +196,9 @@ class ScaledOscillator {
   T acceleration(double a_m_per_s2) const noexcept {
     return S::from_double(a_m_per_s2 / units_.acceleration_m_per_s2());
   }
-  double to_si_acceleration(T a) const noexcept { return S::to_double(a) * units_.acceleration_m_per_s2(); }
+  double to_si_acceleration(T a) const noexcept {
+    return S::to_double(a) * units_.acceleration_m_per_s2();
+  }
   double to_si_displacement(T x) const noexcept { return S::to_double(x) * units_.length_m; }
   double to_si_velocity(T v) const noexcept { return S::to_double(v) * units_.velocity_m_per_s(); }
   double to_si_force(T f) const noexcept { return S::to_double(f) * units_.force_n(); }

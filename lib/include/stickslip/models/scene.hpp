@@ -43,7 +43,8 @@ ConfigResult configure_for_scene(Oscillator<T, Law>& model, const SceneParams& s
   return model.configure(scene.seat);
 }
 template <typename T, typename Law>
-ConfigResult configure_for_scene(EndStopOscillator<T, Law>& model, const SceneParams& scene) noexcept {
+ConfigResult configure_for_scene(EndStopOscillator<T, Law>& model,
+                                 const SceneParams& scene) noexcept {
   return model.configure(scene.seat, scene.stops);
 }
 

@@ -22,17 +22,17 @@ inline bool finite_quietly(T x) noexcept {
   if constexpr (!std::numeric_limits<T>::is_iec559) {
     return ScalarTraits<T>::is_finite(x);
   } else {
-  static_assert(std::numeric_limits<T>::is_iec559, "IEEE 754 binary formats only");
-  using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
-  static_assert(sizeof(Bits) == sizeof(T), "an unsigned integer of T's size");
-  const T infinity = std::numeric_limits<T>::infinity();
-  Bits exponent_mask, bits;
-  std::memcpy(&exponent_mask, &infinity, sizeof bits);
-  std::memcpy(&bits, &x, sizeof bits);
-  bits &= exponent_mask;
-  T exponent;
-  std::memcpy(&exponent, &bits, sizeof bits);
-  return exponent != infinity;
+    static_assert(std::numeric_limits<T>::is_iec559, "IEEE 754 binary formats only");
+    using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+    static_assert(sizeof(Bits) == sizeof(T), "an unsigned integer of T's size");
+    const T infinity = std::numeric_limits<T>::infinity();
+    Bits exponent_mask, bits;
+    std::memcpy(&exponent_mask, &infinity, sizeof bits);
+    std::memcpy(&bits, &x, sizeof bits);
+    bits &= exponent_mask;
+    T exponent;
+    std::memcpy(&exponent, &bits, sizeof bits);
+    return exponent != infinity;
   }
 }
 
@@ -47,7 +47,7 @@ constexpr T seat_acceleration(T k_over_m, T b_over_m, T inv_mass, T x, T v, T fo
 // the loop-carried dependency through x and v is one multiply and two adds, not four.
 template <typename T>
 STICKSLIP_COMPACT_INLINE constexpr void apply_step_map(const StepMap<T>& m, T& x, T& v, T g0,
-                                                      T g1) noexcept {
+                                                       T g1) noexcept {
   const T x_next = (m.xx * x + m.xv * v) + (m.gx0 * g0 + m.gx1 * g1);
   const T v_next = (m.vx * x + m.vv * v) + (m.gv0 * g0 + m.gv1 * g1);
   x = x_next;

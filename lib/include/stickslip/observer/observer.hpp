@@ -27,9 +27,9 @@ namespace stickslip {
 
 struct ObserverParams {
   OscillatorParams model;
-  double window_s = 10.0;              // block window length (split into the kWindowBlocks blocks)
-  double exponential_time_s = 10.0;    // tau of the exponential window
-  double regime_hysteresis_k = 0.05;   // K margin beyond a regime boundary before the regime changes
+  double window_s = 10.0;             // block window length (split into the kWindowBlocks blocks)
+  double exponential_time_s = 10.0;   // tau of the exponential window
+  double regime_hysteresis_k = 0.05;  // K margin beyond a regime boundary before the regime changes
   double mismatch_rms_m_per_s2 = 0.1;  // residual RMS (window) above which the model is flagged
   ComfortWeighting weighting = ComfortWeighting::wk;  // the seat's vertical axis
 };
@@ -37,10 +37,10 @@ struct ObserverParams {
 // Per-sample estimate.
 template <typename T>
 struct ObserverEstimate {
-  StepOutput<T> model{};         // the model's step (x_r, v_r, a_x, f_f, stuck, ...)
-  bool measured = false;         // a measured seat acceleration came with this sample
-  T residual_m_per_s2{};         // a_x,measured - a_x,model (0 when not measured)
-  T measured_friction_n{};       // F_f from the measurement: -m a_x,meas - k x_r - b v_r
+  StepOutput<T> model{};    // the model's step (x_r, v_r, a_x, f_f, stuck, ...)
+  bool measured = false;    // a measured seat acceleration came with this sample
+  T residual_m_per_s2{};    // a_x,measured - a_x,model (0 when not measured)
+  T measured_friction_n{};  // F_f from the measurement: -m a_x,meas - k x_r - b v_r
 };
 
 // Window figures, refreshed when a block completes (and on demand by summary()). The regime is
@@ -49,7 +49,7 @@ struct ObserverSummary {
   double rms_u_m_per_s2 = 0.0, rms_x_m_per_s2 = 0.0, transmissibility = 0.0;
   double stick_probability = 0.0, den_hartog_k = 0.0;
   std::uint32_t stick_events = 0, slip_events = 0;
-  double window_s = 0.0;    // the time the window figures cover so far
+  double window_s = 0.0;  // the time the window figures cover so far
   bool window_full = false;
   double exp_rms_u_m_per_s2 = 0.0, exp_rms_x_m_per_s2 = 0.0, exp_transmissibility = 0.0;
   double exp_stick_probability = 0.0, exp_den_hartog_k = 0.0;

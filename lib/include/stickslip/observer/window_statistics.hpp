@@ -16,8 +16,8 @@ namespace stickslip {
 // The sums one block (and the window) holds.
 template <typename T>
 struct WindowSums {
-  T u_sq{}, x_sq{}, stuck{};       // sum of a_u^2, a_x^2 (m^2/s^4), and stuck fractions
-  T residual_sq{};                 // sum of (a_x,measured - a_x,model)^2 where measured
+  T u_sq{}, x_sq{}, stuck{};  // sum of a_u^2, a_x^2 (m^2/s^4), and stuck fractions
+  T residual_sq{};            // sum of (a_x,measured - a_x,model)^2 where measured
   std::uint32_t samples = 0, steps = 0, measured = 0;
   std::uint32_t stick_events = 0;  // steps that ended stuck after slipping
   std::uint32_t slip_events = 0;   // steps that ended slipping after being stuck (break-away)

@@ -19,11 +19,13 @@ bool is_fd_length(unsigned length) noexcept;
 // MSG_TRUNC). Exactly CAN_MTU with a length <= 8 is a classic frame, exactly CANFD_MTU with a
 // length a DLC can express an FD frame (kFd); anything else is malformed and `frame` is left
 // unchanged. Error frames get kErrorFrame and the error class bits as id; timestamp_ns is 0.
-bool decode_socketcan_read(const canfd_frame& raw, std::size_t size, bool truncated, can::Frame& frame) noexcept;
+bool decode_socketcan_read(const canfd_frame& raw, std::size_t size, bool truncated,
+                           can::Frame& frame) noexcept;
 
 // The bytes to write for `frame`: classic frames as CAN_MTU bytes, FD frames as CANFD_MTU.
 // invalid_argument for a frame no bus can carry: an error frame, an id wider than its format,
 // more than 8 bytes in a classic frame, an FD length no DLC expresses, a remote FD frame.
-TransportStatus encode_socketcan_write(const can::Frame& frame, canfd_frame& raw, std::size_t& size) noexcept;
+TransportStatus encode_socketcan_write(const can::Frame& frame, canfd_frame& raw,
+                                       std::size_t& size) noexcept;
 
 }  // namespace stickslip::port

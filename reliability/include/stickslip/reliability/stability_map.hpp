@@ -27,7 +27,7 @@ inline constexpr double kFreeDecayX0M = 0.05;
 inline constexpr double kEnergyGrowthBound = 1.1;
 inline constexpr double kEnergyCeiling = 2.0;
 inline constexpr double kTravelBoundM = 1.0;
-inline constexpr double kLorryRms = 0.35;  // m/s^2, the a0u of Den Hartog's K
+inline constexpr double kLorryRms = 0.35;      // m/s^2, the a0u of Den Hartog's K
 inline constexpr double kStribeckRatio = 1.3;  // F_fs / F_fk for Stribeck (stick-slip: F_fs = F_fk)
 
 struct MapGrid {

@@ -1,0 +1,93 @@
+// The ECU node: CAN frames in -> receive checker (lib/can/receive_checker.hpp) -> the same
+// oscillator and statistics loop that `simulate` runs (simulation.hpp) -> output frames. Fed one
+// frame at a time by whoever owns the bus (replay, the `ecu` command, tests), so it never blocks
+// and no input can make it stop or throw: a refused frame is counted and goes no further.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "stickslip/can/frame.hpp"
+#include "stickslip/can/receive_checker.hpp"
+#include "stickslip/host/run/simulation.hpp"
+
+namespace stickslip::host {
+
+struct EcuNodeConfig {
+  SimulationSetup setup;  // params (dt_s = the sample interval of the stream), x0, v0
+  ScalarType scalar = ScalarType::float64;
+  can::CheckerConfig checker;
+  unsigned stats_every = 10;  // SeatStats/SeatScene every this many samples (>= 1)
+  bool keep_trace = true;     // store every sample (rows) for a CSV; off for an endless ecu run
+};
+
+// One output sample of the node, as simulate writes it (double holds a float run exactly).
+struct NodeTrace {
+  std::vector<std::uint64_t> index;  // sample index since the first accepted frame
+  // The sender's sample number of the row: the first accepted frame's 16-bit counter, then
+  // advanced by every counter step (so it counts on past 2^16; a restarted sender steps back).
+  // A held row has the number of the sample it stands in for.
+  std::vector<std::int64_t> sample;
+  std::vector<double> a_u, x_r, v_r, a_x, f_f;
+  std::vector<std::uint8_t> stuck;
+  std::vector<std::uint8_t> held;  // 1: filled in by the gap policy, not received
+};
+
+class SeatModel;  // the oscillator + statistics for the configured law and scalar (ecu_node.cpp)
+
+class EcuNode {
+ public:
+  // Throws ConfigurationError when the core refuses the parameters.
+  explicit EcuNode(const EcuNodeConfig& config);
+  ~EcuNode();
+  EcuNode(const EcuNode&) = delete;
+  EcuNode& operator=(const EcuNode&) = delete;
+
+  // Checks one received frame and, for an accepted one, steps the model for every sample it
+  // brings (held samples for a gap first). Appends the output frames to `outputs`. `now_ns`:
+  // any monotonic clock, for the silence timeout. Returns the verdict.
+  can::FrameVerdict on_frame(const can::Frame& frame, std::uint64_t now_ns,
+                             std::vector<can::Frame>& outputs);
+  // Call when the bus has been quiet (a receive timed out): counts bus silence.
+  void on_idle(std::uint64_t now_ns) { checker_.check_silence(now_ns); }
+  // Restarts the silence clock (call once when the node starts listening).
+  void start(std::uint64_t now_ns) { checker_.restart(now_ns); }
+
+  const can::FaultCounters& counters() const noexcept { return checker_.counters(); }
+  // Frames with the SeatInput identifier checked so far (whatever their verdict).
+  std::uint64_t input_frames() const noexcept { return input_frames_; }
+  std::uint64_t samples() const noexcept { return samples_; }
+  // The sender's sample numbers (see NodeTrace::sample) of the first and the last row; valid
+  // when samples() > 0. A restarted node starts again at the counter of its first frame: the
+  // samples before it that it never saw are the gap across the restart.
+  std::int64_t first_sample() const noexcept { return first_sample_; }
+  std::int64_t last_sample() const noexcept { return last_sample_; }
+  const NodeTrace& trace() const noexcept { return trace_; }
+  // The statistics of the run so far, as simulate_signal() reports them (ns_per_sample: wall
+  // time of on_frame per sample, not comparable with simulate's tight loop).
+  SimulationSummary summary() const;
+
+ private:
+  void emit(double a_u, bool held, bool resync, std::int64_t sample,
+            std::vector<can::Frame>& outputs);
+
+  EcuNodeConfig config_;
+  can::ReceiveChecker checker_;
+  std::unique_ptr<SeatModel> model_;
+  NodeTrace trace_;
+  std::uint64_t samples_ = 0;
+  std::uint64_t input_frames_ = 0;
+  double last_a_u_ = 0.0;
+  std::int64_t first_sample_ = 0;
+  std::int64_t last_sample_ = 0;
+  std::uint16_t last_counter_ = 0;  // of the last frame that brought a sample (or a hold)
+  double busy_s_ = 0.0;
+  std::uint8_t alive_[4] = {0, 0, 0, 0};
+};
+
+// The counters as one JSON object (one line) and as a short human summary.
+std::string fault_counters_json(const can::FaultCounters& counters);
+std::string fault_counters_text(const can::FaultCounters& counters);
+
+}  // namespace stickslip::host

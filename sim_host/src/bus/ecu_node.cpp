@@ -1,0 +1,346 @@
+#include "stickslip/host/bus/ecu_node.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "stickslip/can/codec.hpp"
+#include "stickslip/host/run/fixed_dispatch.hpp"
+#include "stickslip/metrics/den_hartog.hpp"
+#include "stickslip/metrics/running_statistics.hpp"
+#include "stickslip/models/dispatch.hpp"
+#include "stickslip/observer/observer.hpp"
+
+namespace stickslip::host {
+
+struct SampleOutput {
+  double x_r, v_r, a_x, f_f;
+  bool stuck;
+};
+
+// The model behind one virtual call per sample: the loop body of simulate_signal() (reset and
+// current() for the first sample, step() after), with the statistics in the run's scalar type.
+class SeatModel {
+ public:
+  virtual ~SeatModel() = default;
+  virtual SampleOutput first(double a_u) = 0;
+  virtual SampleOutput step(double a_u) = 0;
+  virtual void summarise(SimulationSummary& summary) const = 0;
+  // The observer's window figures as of its last completed block (what the node publishes).
+  virtual ObserverSummary observed() const = 0;
+};
+
+namespace {
+
+template <typename T, typename Law>
+class SeatModelFor final : public SeatModel {
+ public:
+  SeatModelFor(const SimulationSetup& setup)
+      : x0_(static_cast<T>(setup.x0_m)), v0_(static_cast<T>(setup.v0_m_per_s)) {
+    ObserverParams params;
+    params.model = setup.params;
+    // A 10 s window (or the whole stream if its blocks would be under one sample).
+    params.window_s = std::fmax(10.0, 10.0 * setup.params.dt_s);
+    params.exponential_time_s = std::fmax(10.0, setup.params.dt_s);
+    const ConfigResult configured = observer_.configure(params);
+    if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+    statistics_.reset();
+  }
+
+  SampleOutput first(double a_u) override {
+    const T input = static_cast<T>(a_u);
+    observer_.reset(input, x0_, v0_);
+    statistics_.reset();
+    events_ = 0;
+    const StepOutput<T> out = observer_.estimate().model;
+    statistics_.add_sample(input, out.a_x_m_per_s2);
+    return convert(out);
+  }
+
+  ObserverSummary observed() const override { return observer_.summary(); }
+
+  SampleOutput step(double a_u) override {
+    const T input = static_cast<T>(a_u);
+    // The observer's estimate is the oscillator's step, bit for bit (tests/core/test_observer.cpp).
+    const StepOutput<T> out = observer_.update(input).model;
+    statistics_.add_sample(input, out.a_x_m_per_s2);
+    statistics_.add_step(out.stuck_fraction);
+    events_ += out.events;
+    return convert(out);
+  }
+
+  void summarise(SimulationSummary& summary) const override {
+    summarise_run(summary, statistics_, observer_.model(), events_);
+    const RideComfort<T>& comfort = observer_.comfort();
+    summary.comfort = comfort.samples() > 0;
+    summary.floor_weighted_rms = comfort.floor_weighted_rms();
+    summary.seat_weighted_rms = comfort.seat_weighted_rms();
+    summary.seat_ratio = comfort.seat_ratio();
+    summary.seat_vdv = comfort.seat_vdv();
+    summary.seat_mtvv = comfort.seat_mtvv();
+    summary.seat_crest_factor = comfort.seat_crest_factor();
+    const ObserverSummary o = observer_.summary();
+    summary.observed = true;
+    summary.window_s = o.window_s;
+    summary.window_transmissibility = o.transmissibility;
+    summary.window_stick_probability = o.stick_probability;
+    summary.window_den_hartog_k = o.den_hartog_k;
+    summary.window_stick_events = o.stick_events;
+    summary.window_slip_events = o.slip_events;
+    summary.regime_changes = o.regime_changes;
+    summary.observer_regime =
+        o.regime_known ? regime_name(o.regime) : "unknown (window not yet full)";
+  }
+
+ private:
+  static SampleOutput convert(const StepOutput<T>& out) {
+    return {static_cast<double>(out.x_r_m), static_cast<double>(out.v_r_m_per_s),
+            static_cast<double>(out.a_x_m_per_s2), static_cast<double>(out.friction_n), out.stuck};
+  }
+
+  Observer<T, Law> observer_;  // the model, its windows, regime and ride comfort
+  RunningStatistics<T> statistics_;
+  std::uint64_t events_ = 0;
+  T x0_, v0_;
+};
+
+// Fixed point (Q23.40): the loop body of simulate_signal_fixed() (the input converted as an ECU
+// converts it, statistics in double). No observer (its windows and filters run in float or
+// double): the published T_ax, p and K are those of the whole stream so far.
+template <typename Law>
+class SeatModelFixed final : public SeatModel {
+ public:
+  explicit SeatModelFixed(const SimulationSetup& setup)
+      : setup_(setup), x0_(setup.x0_m), v0_(setup.v0_m_per_s) {
+    const ConfigResult configured = oscillator_.configure(setup.params);
+    if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+  }
+  SampleOutput first(double a_u) override {
+    const Fixed input(a_u);
+    start_saturated_ = take_fixed_point_saturation();
+    oscillator_.reset(x0_, v0_, input);
+    statistics_.reset();
+    events_ = 0;
+    const StepOutput<Fixed> out = oscillator_.current();
+    statistics_.add_sample(input.to_double(), out.a_x_m_per_s2.to_double());
+    return convert(out);
+  }
+  SampleOutput step(double a_u) override {
+    const Fixed input(a_u);
+    const StepOutput<Fixed> out = oscillator_.step(input);
+    statistics_.add_sample(input.to_double(), out.a_x_m_per_s2.to_double());
+    statistics_.add_step(out.stuck_fraction.to_double());
+    events_ += out.events;
+    return convert(out);
+  }
+  void summarise(SimulationSummary& summary) const override {
+    summarise_run(summary, statistics_, oscillator_, events_);
+    summary.saturated_steps = oscillator_.saturated_steps() + (start_saturated_ ? 1u : 0u);
+  }
+  ObserverSummary observed() const override {
+    ObserverSummary o;
+    o.rms_u_m_per_s2 = statistics_.rms_u();
+    o.rms_x_m_per_s2 = statistics_.rms_x();
+    o.transmissibility = statistics_.transmissibility();
+    o.stick_probability = statistics_.stick_probability();
+    o.den_hartog_k = den_hartog_factor(setup_.params.kinetic_friction_n, setup_.params.mass_kg,
+                                       o.rms_u_m_per_s2);
+    return o;
+  }
+
+ private:
+  static SampleOutput convert(const StepOutput<Fixed>& out) {
+    return {out.x_r_m.to_double(), out.v_r_m_per_s.to_double(), out.a_x_m_per_s2.to_double(),
+            out.friction_n.to_double(), out.stuck};
+  }
+  SimulationSetup setup_;
+  Oscillator<Fixed, Law> oscillator_;
+  RunningStatistics<double> statistics_;
+  std::uint64_t events_ = 0;
+  Fixed x0_, v0_;
+  bool start_saturated_ = false;
+};
+
+std::unique_ptr<SeatModel> make_fixed_model(const SimulationSetup& setup) {
+  return with_fixed_oscillator(setup.params, [&](auto& oscillator) -> std::unique_ptr<SeatModel> {
+    using Osc = std::decay_t<decltype(oscillator)>;
+    return std::make_unique<SeatModelFixed<typename Osc::FrictionLaw>>(setup);
+  });
+}
+
+template <typename T>
+std::unique_ptr<SeatModel> make_model(const SimulationSetup& setup) {
+  // The same law for the same parameters as with_oscillator() (dispatch.hpp) chooses.
+  return with_oscillator<T>(setup.params, [&](auto& oscillator) -> std::unique_ptr<SeatModel> {
+    using Osc = std::decay_t<decltype(oscillator)>;
+    return std::make_unique<SeatModelFor<T, typename Osc::FrictionLaw>>(setup);
+  });
+}
+
+std::uint64_t clock_ns() {
+  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                        std::chrono::steady_clock::now().time_since_epoch())
+                                        .count());
+}
+
+}  // namespace
+
+EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config.checker) {
+  if (config_.stats_every == 0) config_.stats_every = 1;
+  if (config_.setup.reference) throw UsageError("the ECU node runs the core's integrators only");
+  if (config_.scalar == ScalarType::fixed32) {
+    throw UsageError(
+        "--scalar fixed32: offered by simulate and the Cortex-M0+ firmware "
+        "(port/baremetal), not by the host ECU node; use fixed (Q23.40)");
+  }
+  model_ = config_.scalar == ScalarType::fixed     ? make_fixed_model(config_.setup)
+           : config_.scalar == ScalarType::float32 ? make_model<float>(config_.setup)
+                                                   : make_model<double>(config_.setup);
+}
+
+EcuNode::~EcuNode() = default;
+
+can::FrameVerdict EcuNode::on_frame(const can::Frame& frame, std::uint64_t now_ns,
+                                    std::vector<can::Frame>& outputs) {
+  const std::uint64_t start = clock_ns();
+  const can::CheckResult result = checker_.check(frame, now_ns);
+  if (frame.id == can::kSeatInput.id && !(frame.flags & can::kExtendedId)) ++input_frames_;
+  const bool accepted = result.verdict == can::FrameVerdict::accepted;
+  if (accepted || result.hold) {
+    const std::uint16_t counter = result.payload.sample_counter;
+    // The sender's sample number: the counter step as the checker took it (forward, or back
+    // for a restarted sender), added to the last one.
+    const std::int64_t sample =
+        samples_ == 0
+            ? counter
+            : last_sample_ +
+                  static_cast<std::int16_t>(static_cast<std::uint16_t>(counter - last_counter_));
+    last_counter_ = counter;
+    if (samples_ > 0) {
+      for (unsigned i = 0; i < result.lost_samples; ++i)
+        emit(last_a_u_, true, false, sample - result.lost_samples + i, outputs);
+    }
+    if (accepted) {
+      emit(can::physical<double>(can::kSeatInput.signals[0], result.payload.words[0]), false,
+           result.resync, sample, outputs);
+    } else if (samples_ > 0) {
+      emit(last_a_u_, true, false, sample, outputs);
+    }
+  }
+  busy_s_ += static_cast<double>(clock_ns() - start) * 1e-9;
+  return result.verdict;
+}
+
+void EcuNode::emit(double a_u, bool held, bool resync, std::int64_t sample,
+                   std::vector<can::Frame>& outputs) {
+  const std::uint64_t index = samples_;
+  if (samples_ == 0) first_sample_ = sample;
+  last_sample_ = sample;
+  const SampleOutput out = samples_ == 0 ? model_->first(a_u) : model_->step(a_u);
+  ++samples_;
+  last_a_u_ = a_u;
+  if (config_.keep_trace) {
+    trace_.index.push_back(index);
+    trace_.sample.push_back(sample);
+    trace_.a_u.push_back(a_u);
+    trace_.x_r.push_back(out.x_r);
+    trace_.v_r.push_back(out.v_r);
+    trace_.a_x.push_back(out.a_x);
+    trace_.f_f.push_back(out.f_f);
+    trace_.stuck.push_back(out.stuck ? 1 : 0);
+    trace_.held.push_back(held ? 1 : 0);
+  }
+
+  const auto counter = static_cast<std::uint16_t>(index & 0xFFFFu);
+  const auto next_alive = [this](int message) {
+    const std::uint8_t alive = alive_[message];
+    alive_[message] = static_cast<std::uint8_t>((alive + 1u) & 0x0Fu);
+    return alive;
+  };
+  const std::uint8_t state_flags = static_cast<std::uint8_t>(
+      (out.stuck ? can::kStuck : 0) | (held ? can::kHeld : 0) | (resync ? can::kResync : 0));
+  const auto pair_frame = [&](const can::MessageSpec& message, int slot, std::uint8_t flags,
+                              double first, double second) {
+    const can::Quantised q0 = can::quantise(message.signals[0], first);
+    const can::Quantised q1 = can::quantise(message.signals[1], second);
+    can::Payload payload;
+    payload.sample_counter = counter;
+    payload.alive_counter = next_alive(slot);
+    payload.flags =
+        static_cast<std::uint8_t>(flags | ((q0.saturated || q1.saturated) ? can::kSaturated : 0));
+    payload.words[0] = q0.word;
+    payload.words[1] = q1.word;
+    outputs.push_back(can::make_frame(message, payload));
+  };
+  pair_frame(can::kSeatMotion, 0, state_flags, out.a_x, out.x_r);
+  pair_frame(can::kSeatForce, 1, state_flags, out.v_r, out.f_f);
+  if (index % config_.stats_every == 0) {
+    // The observer's window (10 s) as of its last completed block; before the first block
+    // completes, nothing has been observed yet and the figures are 0.
+    const ObserverSummary running = model_->observed();
+    const double k = running.den_hartog_k;
+    pair_frame(can::kSeatStats, 2, 0, running.transmissibility, running.stick_probability);
+    const double faults = static_cast<double>(checker_.counters().faults());
+    pair_frame(can::kSeatScene, 3, 0,
+               std::isfinite(k) ? k : std::numeric_limits<double>::quiet_NaN(),
+               std::fmin(faults, static_cast<double>(can::kUnsignedMax)));
+  }
+}
+
+SimulationSummary EcuNode::summary() const {
+  SimulationSummary summary;
+  summary.dt_s = config_.setup.params.dt_s;
+  if (samples_ > 0) model_->summarise(summary);
+  summary.den_hartog_k = den_hartog_factor(config_.setup.params.kinetic_friction_n,
+                                           config_.setup.params.mass_kg, summary.rms_u);
+  summary.repetitions = 1;
+  summary.ns_per_sample = samples_ > 1 ? busy_s_ * 1e9 / static_cast<double>(samples_ - 1) : 0.0;
+  return summary;
+}
+
+namespace {
+
+template <typename Fn>
+void for_each_counter(const can::FaultCounters& c, Fn&& fn) {
+  fn("frames", c.frames);
+  fn("accepted", c.accepted);
+  fn("ignored_output", c.ignored_output);
+  fn("lost", c.lost);
+  fn("duplicate", c.duplicate);
+  fn("out_of_order", c.out_of_order);
+  fn("bad_crc", c.bad_crc);
+  fn("wrong_length", c.wrong_length);
+  fn("unknown_id", c.unknown_id);
+  fn("can_fd", c.can_fd);
+  fn("error_frame", c.error_frame);
+  fn("remote_frame", c.remote_frame);
+  fn("alive_mismatch", c.alive_mismatch);
+  fn("invalid_signal", c.invalid_signal);
+  fn("resync", c.resync);
+  fn("skipped", c.skipped);
+  fn("silence", c.silence);
+  fn("held_samples", c.held_samples);
+  fn("sender_saturated", c.sender_saturated);
+}
+
+}  // namespace
+
+std::string fault_counters_json(const can::FaultCounters& counters) {
+  nlohmann::ordered_json json;
+  for_each_counter(counters, [&](const char* name, std::uint64_t value) { json[name] = value; });
+  json["faults"] = counters.faults();
+  return json.dump();
+}
+
+std::string fault_counters_text(const can::FaultCounters& counters) {
+  std::string text = fmt::format("faults {}:", counters.faults());
+  for_each_counter(counters, [&](const char* name, std::uint64_t value) {
+    text += fmt::format(" {} {}", name, value);
+  });
+  return text;
+}
+
+}  // namespace stickslip::host

@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
-#include "cli/extra_commands.hpp"
+#include "extra_commands.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/bus/bus_commands.hpp"
 #include "stickslip/host/error.hpp"

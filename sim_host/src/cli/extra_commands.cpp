@@ -1,4 +1,4 @@
-#include "cli/extra_commands.hpp"
+#include "extra_commands.hpp"
 
 #include <fmt/format.h>
 #include <unistd.h>

@@ -6,7 +6,7 @@
 #   - the ABI the preset asks for: Cortex-M4F passes floats in FPU registers, Cortex-M0+ is
 #     ARMv6-M;
 #   - the Cortex-M0+ firmware's step (everything reachable from the CAN receive callback, read
-#     from the disassembly by tools/elf-callgraph.py) within the budget: code <= 4096 B,
+#     from the disassembly by tools/elf-callgraph.py) within its budget: code <= 4096 B,
 #     deepest stack <= 256 B. A static measure of the ELF, not a timing: it cannot be noisy.
 # Exit status 0 when everything builds and passes. Used by CTest (label embedded).
 set -euo pipefail

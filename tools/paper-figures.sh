@@ -170,7 +170,7 @@ F_fs = F_fk; dt = 1 ms; 120 s recordings at a0u = 0.35 m/s^2 (seed 1).
 
 ![Fig. 4](img/paper/fig4-time-histories.png)
 
-| F_fk | model | RMS a_x here [m/s^2] | paper | issue's band | within |
+| F_fk | model | RMS a_x here [m/s^2] | paper | target band | within |
 |---|---|---|---|---|---|
 | 45 N | stick-slip | $(rms ss45.json) | 0.33 | 0.33 +- 0.02 | $(within "$(rms ss45.json)" 0.33 0.02) |
 | 45 N | signum (ode1) | $(rms sg45.json) | 0.50 | 0.50 +- 0.04 | $(within "$(rms sg45.json)" 0.50 0.04) |

@@ -96,7 +96,7 @@ replay_over_vcan() {
 }
 check "stickslip replay --bus $iface == offline, bit for bit" replay_over_vcan
 
-# The full recording: 120 s of lorry data replayed over vcan0 by the project's replay
+# The full recording: 120 s of lorry data replayed over vcan0 by the project's replay
 # equals the offline result (loopback replay == simulate on the quantised samples), bit for bit.
 full_duration="${VCAN_FULL_DURATION_S:-120}"
 full_samples=$(awk "BEGIN { printf \"%d\", $full_duration / 0.001 + 1.5 }")

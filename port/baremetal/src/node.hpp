@@ -11,8 +11,8 @@
 //   in  0x120: int16 a_u in mm/s^2 (bytes 0-1)
 //   out 0x121: int16 a_x in mm/s^2 (bytes 0-1), stuck (byte 2), events in the step (byte 3),
 //              saturated so far (byte 4: fixed point only; 0 for float)
-// A plain decode: the E2E-protected codec of the CAN work (CRC and counters) takes its place
-// when both are merged; the callback itself does not depend on the payload.
+// A plain decode without the E2E protection (CRC and counters) of docs/can/stickslip.dbc: the
+// example shows the model's cost on the target; the callback itself does not depend on the payload.
 inline constexpr std::uint32_t kNodeInputId = 0x120;
 inline constexpr std::uint32_t kNodeOutputId = 0x121;
 

@@ -57,6 +57,43 @@ source_dir=$(realpath "$2")
 scratch=$3
 check_doc "$source_dir"
 
+slurmctld_bin=${SLURMCTLD:-/usr/sbin/slurmctld}
+slurmd_bin=${SLURMD:-/usr/sbin/slurmd}
+munged_bin=${MUNGED:-/usr/sbin/munged}
+
+# The daemons' output, once this run has started them (older logs are not this run's).
+logs_of_this_run=false
+log_tails() {
+  local log
+  [ "$logs_of_this_run" = true ] || return 0
+  for log in "$scratch"/log/*.out; do
+    [ -s "$log" ] || continue
+    echo "---- last lines of $log" >&2
+    tail -n 25 "$log" >&2
+  done
+}
+
+# Slurm could not be started: skipped on a developer's machine, a failure in CI.
+cannot_start() {
+  if [ "${CI:-}" = true ]; then
+    echo "array_sweep: FAILED: Slurm could not be started (CI=true): $*" >&2
+    log_tails
+    exit 1
+  fi
+  log_tails
+  echo "SKIPPED: $*"
+  exit 0
+}
+
+[ "$(id -u)" -eq 0 ] || cannot_start "not root: slurmd must run as root to start the jobs"
+missing="is not installed (tools/install-deps.sh installs slurm-wlm and munge)"
+for tool in "$slurmctld_bin" "$slurmd_bin" "$munged_bin"; do
+  [ -x "$tool" ] || cannot_start "$tool $missing"
+done
+for tool in mungekey sbatch squeue scontrol sinfo; do
+  command -v "$tool" >/dev/null || cannot_start "$tool $missing"
+done
+
 # As root, the test runs as process 1 of a PID namespace of its own: slurmstepd detaches from
 # slurmd, and its orphans are then this shell's to reap instead of the machine's init; whatever
 # is still alive when the test ends, even when it is killed (--kill-child), dies with the
@@ -71,18 +108,14 @@ fi
 test_shards=4
 test_cpus=1
 start_seconds=$SECONDS
-# Every wait below ends by this point, so that the exit trap (at most 15 s) always runs before
-# CTest's timeout of 180 s could kill the test and leave the daemons to the next run.
+# Every wait below ends by this point, so that the test fails with its own message and its exit
+# trap (at most 15 s) stops the daemons well before CTest's timeout of 180 s kills it.
 budget_end=$((SECONDS + 150))
 # Seconds to wait: $1, or less if the budget ends sooner.
 within_budget() {
   local left=$((budget_end - SECONDS))
   echo $(($1 < left ? $1 : left))
 }
-
-slurmctld_bin=${SLURMCTLD:-/usr/sbin/slurmctld}
-slurmd_bin=${SLURMD:-/usr/sbin/slurmd}
-munged_bin=${MUNGED:-/usr/sbin/munged}
 
 mkdir -p "$scratch"
 scratch=$(realpath "$scratch")
@@ -100,7 +133,8 @@ running() {
 
 # Processes carrying the marker: the daemons, slurmstepd and the jobs (this shell does not).
 marked_processes() {
-  grep -lzxF "$marker" /proc/[0-9]*/environ 2>/dev/null | sed -n 's|^/proc/\([0-9]*\)/environ$|\1|p' || true
+  grep -lzxF "$marker" /proc/[0-9]*/environ 2>/dev/null |
+    sed -n 's|^/proc/\([0-9]*\)/environ$|\1|p' || true
 }
 
 # Ends the given processes: SIGTERM, up to 15 s in all for a clean exit (slurmctld saves its
@@ -120,8 +154,8 @@ stop_processes() {
   done
 }
 
-# A run killed by a timeout before its trap could run leaves its daemons behind: they carry this
-# scratch directory's marker, so they are this test's own and are stopped before anything else.
+# Outside a PID namespace, a run killed before its trap could run leaves its daemons behind: they
+# carry this scratch directory's marker, so they are this test's own and are stopped first.
 mapfile -t stale < <(marked_processes)
 if [ ${#stale[@]} -gt 0 ]; then
   say "stopping processes left by an earlier run in $scratch: ${stale[*]}"
@@ -129,6 +163,7 @@ if [ ${#stale[@]} -gt 0 ]; then
 fi
 rm -rf "$scratch"
 mkdir -p "$scratch"/{etc,munge,run,state,spool,log,bin,work}
+logs_of_this_run=true
 chmod 700 "$scratch/munge"
 # munged requires its socket directory to be reachable by every user (the key directory not).
 chmod 755 "$scratch/run"
@@ -158,42 +193,14 @@ trap cleanup EXIT
 trap 'exit 130' INT
 trap 'exit 143' TERM
 
-log_tails() {
-  local log
-  for log in "$scratch"/log/*.out; do
-    [ -s "$log" ] || continue
-    echo "---- last lines of $log" >&2
-    tail -n 25 "$log" >&2
-  done
-}
-
-# Slurm could not be started: skipped on a developer's machine, a failure in CI.
-cannot_start() {
-  if [ "${CI:-}" = true ]; then
-    echo "array_sweep: FAILED: Slurm could not be started (CI=true): $*" >&2
-    log_tails
-    exit 1
-  fi
-  log_tails
-  echo "SKIPPED: $*"
-  exit 0
-}
-
-[ "$(id -u)" -eq 0 ] || cannot_start "not root: slurmd must run as root to start the jobs"
-for tool in "$slurmctld_bin" "$slurmd_bin" "$munged_bin"; do
-  [ -x "$tool" ] || cannot_start "$tool is not installed (tools/install-deps.sh installs slurm-wlm and munge)"
-done
-for tool in mungekey sbatch squeue scontrol sinfo; do
-  command -v "$tool" >/dev/null || cannot_start "$tool is not installed (tools/install-deps.sh installs slurm-wlm and munge)"
-done
-
 # The recordings and the single-process run of the very points sweep.sbatch sweeps: its sweep
 # options are the words between "stickslip" and "--threads".
 ln -s "$stickslip" "$scratch/bin/stickslip"
 export PATH="$scratch/bin:$PATH"
 cd "$scratch/work"
-stickslip generate --kind wideband --rms 0.35 --duration 2 --dt 0.001 --seed 1 --output wideband.csv >/dev/null
-stickslip generate --kind lorry --rms 0.35 --duration 2 --dt 0.001 --seed 2 --output lorry.csv >/dev/null
+for kind in wideband lorry; do
+  stickslip generate --kind $kind --rms 0.35 --duration 2 --dt 0.001 --output $kind.csv >/dev/null
+done
 cp "$source_dir/tools/slurm/sweep.sbatch" sweep.sbatch
 sweep_text=$(sed -n '/^stickslip sweep /,/[^\\]$/p' sweep.sbatch | sed 's/\\$//' | tr '\n' ' ')
 sweep_text=${sweep_text#stickslip }
@@ -206,7 +213,8 @@ points=$(($(wc -l <single.csv) - 1))
 say "single-process run: ${sweep_args[*]} -> $points points"
 
 # Two distinct TCP ports that nothing listens on now (/proc/net/tcp*: state 0A is LISTEN).
-listening=$(awk 'FNR > 1 && $4 == "0A" { split($2, a, ":"); print a[2] }' /proc/net/tcp /proc/net/tcp6 |
+listening=$(awk 'FNR > 1 && $4 == "0A" { split($2, a, ":"); print a[2] }' \
+  /proc/net/tcp /proc/net/tcp6 |
   while read -r hex; do echo $((16#$hex)); done | sort -u)
 free_port() {
   local port
@@ -298,7 +306,8 @@ wait_for 30 $! slurmctld bash -c 'scontrol ping | grep -q "is UP"'
 env "$marker" "$slurmd_bin" -D -f "$conf" -N localhost >"$scratch/log/slurmd.out" 2>&1 &
 daemon_pids+=($!)
 wait_for 30 $! slurmd bash -c '[ "$(sinfo -h -n localhost -o %t)" = idle ]'
-say "munged, slurmctld (port $ctld_port) and slurmd (port $slurmd_port) up after $((SECONDS - start_seconds)) s: $(sinfo -h -N -o '%N %c CPUs %m MB %t')"
+say "munged, slurmctld (port $ctld_port), slurmd (port $slurmd_port) up after" \
+  "$((SECONDS - start_seconds)) s: $(sinfo -h -N -o '%N %c CPUs %m MB %t')"
 
 # The doc's submit and merge lines, with the test's sizes in place of the production ones.
 {
@@ -333,4 +342,5 @@ if [ "$(grep -c ' COMPLETED$' <<<"$states")" -ne $expected_jobs ]; then
 fi
 [ -f sweep.csv ] || fail "the merge job wrote no sweep.csv"
 cmp single.csv sweep.csv || fail "the merged array sweep differs from the single-process run"
-say "the $test_shards-task Slurm array merged by its dependent job equals the single run ($points points), byte for byte; $((SECONDS - start_seconds)) s"
+say "the $test_shards-task Slurm array merged by its dependent job equals the single run" \
+  "($points points), byte for byte; $((SECONDS - start_seconds)) s"

@@ -13,7 +13,9 @@ packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev lib
           gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   # can-utils: the candump-log cross-check (log2asc) and the vcan guest's tools. The vcan guest
   # test (tests/vcan) boots a Debian kernel under qemu with an initramfs built by cpio and depmod.
-  can-utils qemu-system-x86 busybox-static iproute2 cpio kmod)
+  can-utils qemu-system-x86 busybox-static iproute2 cpio kmod
+  # slurm-wlm and munge: the Slurm job-array test (tests/slurm) runs its own private daemons.
+  slurm-wlm munge)
 for group in "$@"; do
   case "$group" in
     --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm) ;;

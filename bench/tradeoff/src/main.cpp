@@ -89,16 +89,8 @@ Plan make_plan(const PlanText& t) {
   return plan;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{
-      "stickslip_tradeoff: speed vs accuracy of every model x integrator x scalar x dt "
-      "against the reference solver, with Boost.Odeint peers"};
-  app.require_subcommand(1);
-
-  PlanText run_text;
-  RunRequest run_request;
+// The run subcommand: the plan, the peers and timing, where the counts come from, the CSV.
+CLI::App* add_run_command(CLI::App& app, PlanText& run_text, RunRequest& run_request) {
   CLI::App* run = app.add_subcommand("run", "Measure cost and error of every combination -> CSV");
   add_plan_options(run, run_text);
   run->add_option("--peers", run_text.peers, "rk4, dopri5, dopri5-events, or none")
@@ -117,19 +109,11 @@ int main(int argc, char** argv) {
       "--instructions", run_request.instructions_dir,
       "directory of count-instructions' callgrind dumps (fills instructions_per_sample)");
   run->add_option("--output", run_request.output_csv, "CSV to write")->required();
+  return run;
+}
 
-  PlanText count_text;
-  CLI::App* count = app.add_subcommand(
-      "count-instructions",
-      "Run every combination's loop once on a short input with callgrind instrumentation; use "
-      "under valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file=DIR/cg.%p");
-  add_plan_options(count, count_text);
-  count
-      ->add_option("--steps", count_text.instruction_steps,
-                   "steps per combination (0: the whole input)")
-      ->capture_default_str();
-
-  ReportRequest report_request;
+// The report subcommand: the inputs the report script gathered and where the outputs go.
+CLI::App* add_report_command(CLI::App& app, ReportRequest& report_request) {
   CLI::App* report =
       app.add_subcommand("report", "Write PERFORMANCE.md and the plot data from the CSV");
   report->add_option("--results", report_request.results_csv, "the run's CSV")->required();
@@ -156,6 +140,34 @@ int main(int argc, char** argv) {
   report->add_option("--command", report_request.command, "the command that reproduces the report")
       ->required();
   report->add_option("--elapsed", report_request.elapsed_s, "seconds the command took so far");
+  return report;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "stickslip_tradeoff: speed vs accuracy of every model x integrator x scalar x dt "
+      "against the reference solver, with Boost.Odeint peers"};
+  app.require_subcommand(1);
+
+  PlanText run_text;
+  RunRequest run_request;
+  CLI::App* run = add_run_command(app, run_text, run_request);
+
+  PlanText count_text;
+  CLI::App* count = app.add_subcommand(
+      "count-instructions",
+      "Run every combination's loop once on a short input with callgrind instrumentation; use "
+      "under valgrind --tool=callgrind --instr-atstart=no --callgrind-out-file=DIR/cg.%p");
+  add_plan_options(count, count_text);
+  count
+      ->add_option("--steps", count_text.instruction_steps,
+                   "steps per combination (0: the whole input)")
+      ->capture_default_str();
+
+  ReportRequest report_request;
+  CLI::App* report = add_report_command(app, report_request);
 
   CLI::App* info =
       app.add_subcommand("build-info", "Print compiler, flags, build type, reference method");

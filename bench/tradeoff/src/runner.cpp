@@ -116,6 +116,101 @@ SampledInput sampled(const std::vector<double>& base, double dt_ms) {
 
 namespace {
 
+// The references of one scene at one dt: the physics, and each smoothed law's own, solved when
+// first needed; the time spent solving them accumulates in `reference_s`.
+class DtReferences {
+ public:
+  DtReferences(const Scene& scene, double dt_ms, const SampledInput& input, double& reference_s)
+      : scene_(scene),
+        dt_ms_(dt_ms),
+        input_(input),
+        reference_s_(reference_s),
+        physics_(reference_for(scene, physics_params(scene, dt_ms), input.as_double)) {
+    reference_s_ += physics_.solve_seconds;
+  }
+  const Reference& physics() const { return physics_; }
+  const Reference& own(const ModelChoice& model) {
+    if (!own_reference_differs(scene_, model)) return physics_;
+    auto found = own_references_.find(model.smoothing);
+    if (found == own_references_.end()) {
+      found = own_references_
+                  .emplace(model.smoothing,
+                           reference_for(scene_, own_reference_params(scene_, model, dt_ms_),
+                                         input_.as_double))
+                  .first;
+      reference_s_ += found->second.solve_seconds;
+    }
+    return found->second;
+  }
+
+ private:
+  const Scene& scene_;
+  const double dt_ms_;
+  const SampledInput& input_;
+  double& reference_s_;
+  const Reference physics_;
+  std::map<SmoothingLaw, Reference> own_references_;
+};
+
+// Our runs of one scene at one dt: every model x integrator x scalar of the plan that runs there.
+std::size_t write_library_rows(std::ostream& out, const Plan& plan, const Scene& scene,
+                               double dt_ms, const SampledInput& input, DtReferences& references,
+                               const std::map<std::string, double>& instructions) {
+  const std::size_t steps = input.as_double.size() - 1;
+  const bool friction_scene = scene.friction != SceneFriction::none;
+  const Reference& physics = references.physics();
+  std::size_t rows = 0;
+  for (const ModelChoice& model : plan.models) {
+    if (!runs_in_scene(model, scene) || !runs_at_dt(model, dt_ms, plan)) continue;
+    const Reference& own = references.own(model);
+    for (const Integrator integrator : plan.integrators) {
+      for (const host::ScalarType scalar : plan.scalars) {
+        const OscillatorParams params = run_params(scene, model, integrator, dt_ms);
+        const Outcome outcome = run_library(params, scalar, input, physics, plan.timing);
+        Row row = scene_row(scene, plan, dt_ms, steps);
+        row.implementation = "stickslip";
+        row.model = model.name;
+        row.integrator = integrator_name(integrator);
+        row.scalar = host::scalar_name(scalar);
+        fill_outcome(row, outcome, physics, own, friction_scene);
+        const auto counted = instructions.find(
+            combination_key(scene.name, row.model, row.integrator, row.scalar, dt_ms));
+        if (outcome.timing && counted != instructions.end()) row.ir_per_sample = counted->second;
+        write_row(out, row);
+        ++rows;
+      }
+    }
+  }
+  return rows;
+}
+
+// The Boost.Odeint peers on one Coulomb scene at one dt.
+std::size_t write_peer_rows(std::ostream& out, const Plan& plan, const Scene& scene, double dt_ms,
+                            const SampledInput& input, DtReferences& references) {
+  const std::size_t steps = input.as_double.size() - 1;
+  const Reference& physics = references.physics();
+  std::size_t rows = 0;
+  for (const PeerSpec& peer : plan.peers) {
+    ModelChoice smooth;
+    smooth.name = "smooth-tanh";
+    smooth.model = FrictionModel::smooth;
+    const bool smooth_peer = peer.kind != PeerKind::dopri5_events;
+    const Reference& own = smooth_peer ? references.own(smooth) : physics;
+    const OscillatorParams params = physics_params(scene, dt_ms);
+    const Outcome outcome = run_peer(peer, params, input.as_double, physics, plan.peer_timing);
+    Row row = scene_row(scene, plan, dt_ms, steps);
+    row.implementation = "odeint";
+    row.model = peer_model_name(peer.kind);
+    row.integrator = peer_integrator_name(peer.kind);
+    row.scalar = "double";
+    if (peer_uses_tolerance(peer.kind)) row.tolerance = peer.tolerance;
+    fill_outcome(row, outcome, physics, own, true);
+    write_row(out, row);
+    ++rows;
+  }
+  return rows;
+}
+
 void write_results(const RunRequest& request, std::ostream& out, std::ostream& progress) {
   const Plan& plan = request.plan;
   const auto started = Clock::now();
@@ -130,73 +225,14 @@ void write_results(const RunRequest& request, std::ostream& out, std::ostream& p
   std::size_t rows = 0;
   for (const Scene& scene : scenes) {
     const std::vector<double>& base = signals.get(scene.kind);
-    const bool friction_scene = scene.friction != SceneFriction::none;
     const auto scene_start = Clock::now();
     double reference_s = 0.0;
     for (const double dt_ms : plan.dts_ms) {
       const SampledInput input = sampled(base, dt_ms);
-      const std::size_t steps = input.as_double.size() - 1;
-      const Reference physics = reference_for(scene, physics_params(scene, dt_ms), input.as_double);
-      reference_s += physics.solve_seconds;
-      std::map<SmoothingLaw, Reference> own_references;
-      const auto own_reference = [&](const ModelChoice& model) -> const Reference& {
-        if (!own_reference_differs(scene, model)) return physics;
-        auto found = own_references.find(model.smoothing);
-        if (found == own_references.end()) {
-          found = own_references
-                      .emplace(model.smoothing,
-                               reference_for(scene, own_reference_params(scene, model, dt_ms),
-                                             input.as_double))
-                      .first;
-          reference_s += found->second.solve_seconds;
-        }
-        return found->second;
-      };
-
-      for (const ModelChoice& model : plan.models) {
-        if (!runs_in_scene(model, scene) || !runs_at_dt(model, dt_ms, plan)) continue;
-        const Reference& own = own_reference(model);
-        for (const Integrator integrator : plan.integrators) {
-          for (const host::ScalarType scalar : plan.scalars) {
-            const OscillatorParams params = run_params(scene, model, integrator, dt_ms);
-            const Outcome outcome = run_library(params, scalar, input, physics, plan.timing);
-            Row row = scene_row(scene, plan, dt_ms, steps);
-            row.implementation = "stickslip";
-            row.model = model.name;
-            row.integrator = integrator_name(integrator);
-            row.scalar = host::scalar_name(scalar);
-            fill_outcome(row, outcome, physics, own, friction_scene);
-            const auto counted = instructions.find(
-                combination_key(scene.name, row.model, row.integrator, row.scalar, dt_ms));
-            if (outcome.timing && counted != instructions.end())
-              row.ir_per_sample = counted->second;
-            write_row(out, row);
-            ++rows;
-          }
-        }
-      }
-
-      if (scene.friction == SceneFriction::coulomb) {
-        for (const PeerSpec& peer : plan.peers) {
-          ModelChoice smooth;
-          smooth.name = "smooth-tanh";
-          smooth.model = FrictionModel::smooth;
-          const bool smooth_peer = peer.kind != PeerKind::dopri5_events;
-          const Reference& own = smooth_peer ? own_reference(smooth) : physics;
-          const OscillatorParams params = physics_params(scene, dt_ms);
-          const Outcome outcome =
-              run_peer(peer, params, input.as_double, physics, plan.peer_timing);
-          Row row = scene_row(scene, plan, dt_ms, steps);
-          row.implementation = "odeint";
-          row.model = peer_model_name(peer.kind);
-          row.integrator = peer_integrator_name(peer.kind);
-          row.scalar = "double";
-          if (peer_uses_tolerance(peer.kind)) row.tolerance = peer.tolerance;
-          fill_outcome(row, outcome, physics, own, true);
-          write_row(out, row);
-          ++rows;
-        }
-      }
+      DtReferences references(scene, dt_ms, input, reference_s);
+      rows += write_library_rows(out, plan, scene, dt_ms, input, references, instructions);
+      if (scene.friction == SceneFriction::coulomb)
+        rows += write_peer_rows(out, plan, scene, dt_ms, input, references);
       out.flush();
     }
     progress << fmt::format("{:>28}: {:5.1f} s, of which references {:4.1f} s ({:.0f} s so far)\n",

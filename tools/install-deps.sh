@@ -11,6 +11,8 @@ set -euo pipefail
 packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev
           libtomlplusplus-dev libmatio-dev pkg-config parallel
           gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
+  # clang-format (version 14 in Debian 12): tools/format.sh and the CTest test format.check.
+  clang-format
   # can-utils: the candump-log cross-check (log2asc) and the vcan guest's tools. The vcan guest
   # test (tests/vcan) boots a Debian kernel under qemu with an initramfs built by cpio and depmod.
   can-utils qemu-system-x86 busybox-static iproute2 cpio kmod

@@ -9,11 +9,12 @@
 #include <nlohmann/json.hpp>
 
 #include "CppUTest/TestHarness.h"
-#include "host_test_support.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/bus/bus_commands.hpp"
 #include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/port/loopback_transport.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
 
 using namespace stickslip;
 using stickslip::test::CliRun;

@@ -19,7 +19,7 @@ namespace stickslip::test {
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-// The reference seat of the issue: m, k, and b for a damping ratio of 0.25.
+// The reference seat (README.md): m, k, and b for a damping ratio of 0.25.
 inline constexpr double kMassKg = 88.4;
 inline constexpr double kStiffnessNPerM = 11500.0;
 inline constexpr double kDampingNsPerM = 504.0;

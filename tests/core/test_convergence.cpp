@@ -259,7 +259,7 @@ TEST(Convergence, StickSlipExactAgreesAcrossStepsOnTheSameInput) {
   test::note_margin("stick-slip 10 ms vs 1e-5 s max state difference, m", worst, 1e-8);
 }
 
-// The requirement: 120 s of lorry-like input, stick-slip at dt = 1 ms within 0.1 % in T_ax
+// The accuracy target: 120 s of lorry-like input, stick-slip at dt = 1 ms within 0.1 % in T_ax
 // and 0.005 in p of the same model at dt = 1e-5 s on the identical piecewise-linear input.
 TEST(Convergence, StickSlipOneMillisecondMatchesTenMicrosecondsOnLorrySignal) {
   const auto signal = test::make_lorry_signal(2024, kLorryRms);

@@ -482,7 +482,8 @@ TEST(Extremes, NonFiniteInputIsReplacedByThePreviousSample) {
 }
 
 // Symplectic with a sticking law needs damping ratio >= 0.25 (omega0 dt)^2: without damping the
-// refusal says that no dt is stable (it once quoted "use dt <= 0 s"), names damping and the limit.
+// refusal says that no dt is stable (never a bound such as "use dt <= 0 s"), names damping and
+// the limit.
 TEST(Extremes, UndampedSymplecticStickingRefusalSaysNoDtIsStable) {
   for (FrictionModel model : {FrictionModel::stick_slip, FrictionModel::stribeck}) {
     for (double dt : {1e-5, 1e-3, 0.05}) {
@@ -517,8 +518,8 @@ TEST(Extremes, UndampedSymplecticStickingRefusalSaysNoDtIsStable) {
   STRCMP_CONTAINS("or exact/rk4", config.message.c_str());
 }
 
-// The refusal of a subnormal value quotes it: the message formatter once divided by 10^-324 = 0
-// (UBSan: NaN converted to int; found by fuzzing configure()).
+// The refusal of a subnormal value quotes it: a formatter that scales by 10^exponent would divide
+// by 10^-324 = 0 there (UBSan: NaN converted to int).
 TEST(Extremes, RefusalQuotesSubnormalValues) {
   OscillatorParams p =
       test::reference_params(FrictionModel::stick_slip, Integrator::exact, 4.9406564584124654e-324);

@@ -3,15 +3,13 @@
 // configure() refusing scenes that would not fit, by name.
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <initializer_list>
 #include <vector>
 
 #include "CppUTest/TestHarness.h"
-#include "fixed_point_extremes.hpp"
+#include "fixed_point_checks.hpp"
 #include "oracles.hpp"
 #include "stickslip/core/fixed_point.hpp"
-#include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/oscillator.hpp"
 
 using namespace stickslip;
@@ -24,18 +22,36 @@ constexpr std::int64_t kMax = INT64_MAX;
 
 // round(a * b / 2^40), ties away from zero, from the compiler's 128-bit integers.
 std::int64_t reference_product(std::int64_t a, std::int64_t b) {
-  const Int128 p = static_cast<Int128>(a) * b;
-  const Int128 magnitude = p < 0 ? -p : p;
-  const Int128 q = (magnitude + (Int128{1} << 39)) >> 40;
-  return static_cast<std::int64_t>(p < 0 ? -q : q);
+  return static_cast<std::int64_t>(test::rounded_product<40>(Int128{a}, Int128{b}));
 }
 
-bool contains(const char* text, const char* part) {
-  return std::strstr(text, part) != nullptr;
-}
-bool starts_with(const char* text, const char* prefix) {
-  return std::strncmp(text, prefix, std::strlen(prefix)) == 0;
-}
+// Q23.40 runs the oscillator on the SI scene itself (fixed_point_checks.hpp).
+struct Q23_40 {
+  using Scalar = Fixed;
+  template <typename Law>
+  using Seat = Oscillator<Fixed, Law>;
+  static constexpr const char* kName = "fixed";
+  // The default ranges.
+  static OscillatorParams params(FrictionModel model, Integrator integrator) {
+    return test::reference_params(model, integrator, 1e-3);
+  }
+  template <typename S>
+  static S& model(S& seat) {
+    return seat;
+  }
+  template <typename S>
+  static Fixed input(S&, double a_m_per_s2) {
+    return Fixed(a_m_per_s2);
+  }
+  template <typename S>
+  static double metres(S&, Fixed x_r) {
+    return x_r.to_double();
+  }
+  template <typename S>
+  static double acceleration(S&, Fixed a_x) {
+    return a_x.to_double();
+  }
+};
 
 }  // namespace
 
@@ -153,88 +169,17 @@ TEST(FixedPointArithmetic, QuotientWithinTwoToTheMinus29) {
   CHECK_FALSE(fixed_point_saturated());
 }
 
-namespace {
-
-struct Comparison {
-  double transmissibility_fixed, transmissibility_double;
-  double stick_fixed, stick_double;
-  double max_x_error;
-  std::uint64_t saturated_steps;
-};
-
-template <typename Law>
-Comparison compare_with_double(const OscillatorParams& params, const std::vector<double>& a_u) {
-  Oscillator<Fixed, Law> fixed;
-  Oscillator<double, Law> reference;
-  const ConfigResult fixed_status = fixed.configure(params);
-  CHECK_TEXT(fixed_status.ok(), fixed_status.message.c_str());
-  CHECK(reference.configure(params).ok());
-  fixed.reset(Fixed(0), Fixed(0), Fixed(a_u[0]));
-  reference.reset(0.0, 0.0, a_u[0]);
-  RunningStatistics<double> fixed_stats, double_stats;
-  fixed_stats.reset();
-  double_stats.reset();
-  Comparison c{};
-  for (std::size_t n = 1; n < a_u.size(); ++n) {
-    const auto f = fixed.step(Fixed(a_u[n]));
-    const auto d = reference.step(a_u[n]);
-    fixed_stats.add_sample(a_u[n], f.a_x_m_per_s2.to_double());
-    fixed_stats.add_step(f.stuck_fraction.to_double());
-    double_stats.add_sample(a_u[n], d.a_x_m_per_s2);
-    double_stats.add_step(d.stuck_fraction);
-    const double error = std::fabs(f.x_r_m.to_double() - d.x_r_m);
-    if (error > c.max_x_error) c.max_x_error = error;
-  }
-  c.transmissibility_fixed = fixed_stats.transmissibility();
-  c.transmissibility_double = double_stats.transmissibility();
-  c.stick_fixed = fixed_stats.stick_probability();
-  c.stick_double = double_stats.stick_probability();
-  c.saturated_steps = fixed.saturated_steps();
-  return c;
-}
-
-}  // namespace
-
 TEST_GROUP(FixedPointOscillator){void setup() override{(void)take_fixed_point_saturation();
 }
 }
 ;
 
-// 30 s of the lorry-like scene at dt = 1 ms, K = 1.3: the targets of the issue (T_ax within 1 %,
-// p within 0.01, no saturation) with a wide margin, exact and symplectic.
 TEST(FixedPointOscillator, StickSlipAgreesWithDoubleOnTheLorryScene) {
-  const auto a_u = test::make_lorry_signal(3, 0.35).sample(1e-3, 30001);
-  for (Integrator integrator : {Integrator::exact, Integrator::symplectic}) {
-    OscillatorParams p = test::reference_params(FrictionModel::stick_slip, integrator, 1e-3);
-    p.kinetic_friction_n = test::kinetic_friction_for_den_hartog(1.3, test::kMassKg, 0.35);
-    p.static_friction_n = 1.25 * p.kinetic_friction_n;
-    const Comparison c = compare_with_double<CoulombStickSlip>(p, a_u);
-    const double t_error = std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0);
-    test::note_margin("fixed vs double T_ax relative error", t_error, 0.01);
-    test::note_margin("fixed vs double p absolute error", std::fabs(c.stick_fixed - c.stick_double),
-                      0.01);
-    CHECK(t_error < 1e-3);
-    CHECK(std::fabs(c.stick_fixed - c.stick_double) < 1e-3);
-    CHECK(c.stick_double > 0.3);  // the scene does stick
-    CHECK(c.max_x_error < 1e-4);
-    LONGS_EQUAL(0, c.saturated_steps);
-  }
+  test::check_stick_slip_agrees_with_double_on_the_lorry_scene<Q23_40>();
 }
 
 TEST(FixedPointOscillator, HeldLawsAgreeWithDouble) {
-  const auto a_u = test::make_lorry_signal(4, 0.35).sample(1e-3, 10001);
-  OscillatorParams p = test::reference_params(FrictionModel::signum, Integrator::exact, 1e-3);
-  p.kinetic_friction_n = 20.0;
-  Comparison c = compare_with_double<SignumFriction>(p, a_u);
-  CHECK(std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0) < 1e-3);
-  LONGS_EQUAL(0, c.saturated_steps);
-  p.model = FrictionModel::smooth;
-  p.smoothing = SmoothingLaw::rational;
-  p.smoothing_constant_s_per_m = 100.0;
-  c = compare_with_double<SmoothFriction<SmoothingLaw::rational>>(p, a_u);
-  CHECK(std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0) < 1e-3);
-  CHECK(c.max_x_error < 1e-6);
-  LONGS_EQUAL(0, c.saturated_steps);
+  test::check_held_laws_agree_with_double<Q23_40>(100.0, 1e-6);
 }
 
 // Beyond the checked input range the step saturates, and says so: counted per step, outputs
@@ -297,9 +242,7 @@ TEST(FixedPointOscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuantity) {
       Oscillator<Fixed, CoulombStickSlip> seat;
       result = seat.configure(p);
     }
-    CHECK_FALSE_TEXT(result.ok(), c.parameter);
-    CHECK_TEXT(starts_with(result.message.c_str(), c.parameter), result.message.c_str());
-    CHECK_TEXT(contains(result.message.c_str(), c.quantity), result.message.c_str());
+    test::check_refused_naming(result, c.parameter, c.quantity);
   }
   // The float oscillator ignores the fixed-point ranges.
   OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::exact, 1e-3);
@@ -308,23 +251,9 @@ TEST(FixedPointOscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuantity) {
   CHECK(seat.configure(p).ok());
 }
 
-// The extremes of the Foundation grid (test::for_each_extreme_scene) with the default ranges:
-// refused by name, or run without saturation and bounded (the fixed-point form of "no
-// NaN-equivalent garbage").
+// The extremes of the grid (test::for_each_extreme_scene) with the default ranges: refused by
+// name, or run without saturation and bounded (the fixed-point form of "no NaN-equivalent
+// garbage").
 TEST(FixedPointOscillator, ExtremesAreRefusedByNameOrRunWithoutSaturation) {
-  test::ExtremeTally tally;
-  test::for_each_extreme_scene(
-      50.0, 1.0, [&](const OscillatorParams& p, const std::vector<double>& a_u, auto law) {
-        Oscillator<Fixed, typename decltype(law)::type> seat;
-        test::run_extreme(
-            seat, p, a_u, 1.0, tally, [](auto& s) -> auto& { return s; },
-            [](auto&, double a) { return Fixed(a); }, [](auto&, Fixed x) { return x.to_double(); });
-      });
-  CHECK_TEXT(tally.failures == 0,
-             StringFromFormat("%d failing scenes:%s", tally.failures, tally.listed.asCharString())
-                 .asCharString());
-  CHECK(tally.accepted > 100);
-  CHECK(tally.refused > 0);
-  test::note_margin("fixed grid scenes accepted", tally.accepted, 0.0);
-  test::note_margin("fixed grid scenes refused", tally.refused, 0.0);
+  test::check_extremes_are_refused_by_name_or_run_without_saturation<Q23_40>(50.0);
 }

@@ -1,18 +1,17 @@
 // The Q7.24 scalar of the Cortex-M0+ build (core/fixed_point32.hpp) and the oscillator in scene
 // units (models/scaled_oscillator.hpp): every operation against exact integer references with its
 // saturation flagged, the event proportion without a division, the count conversions, the
-// oscillator against double, configure() refusing by name, and the Foundation extremes.
+// oscillator against double, configure() refusing by name, and the extreme scenes.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
 #include "CppUTest/TestHarness.h"
-#include "fixed_point_extremes.hpp"
+#include "fixed_point_checks.hpp"
 #include "oracles.hpp"
 #include "stickslip/core/fixed_point.hpp"
 #include "stickslip/core/fixed_point32.hpp"
-#include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/oscillator.hpp"
 #include "stickslip/models/scaled_oscillator.hpp"
 
@@ -24,10 +23,7 @@ constexpr std::int32_t kMax32 = INT32_MAX;
 
 // round(a b / 2^24), ties away from zero, in int64 (exact: |a b| < 2^62).
 std::int64_t reference_product(std::int32_t a, std::int32_t b) {
-  const std::int64_t p = std::int64_t{a} * b;
-  const std::int64_t magnitude = p < 0 ? -p : p;
-  const std::int64_t q = (magnitude + (std::int64_t{1} << 23)) >> 24;
-  return p < 0 ? -q : q;
+  return test::rounded_product<24>(std::int64_t{a}, std::int64_t{b});
 }
 
 // A deterministic 32-bit generator (xorshift), spread over every magnitude.
@@ -47,13 +43,6 @@ struct Bits {
   }
 };
 
-bool contains(const char* text, const char* part) {
-  return std::strstr(text, part) != nullptr;
-}
-bool starts_with(const char* text, const char* prefix) {
-  return std::strncmp(text, prefix, std::strlen(prefix)) == 0;
-}
-
 // The M0+ firmware's ranges: the int16 mm/s^2 input and the seat's stroke.
 OscillatorParams firmware_params(FrictionModel model, Integrator integrator) {
   OscillatorParams p = test::reference_params(model, integrator, 1e-3);
@@ -61,6 +50,34 @@ OscillatorParams firmware_params(FrictionModel model, Integrator integrator) {
   p.displacement_range_m = 0.1;
   return p;
 }
+
+// Q7.24 runs ScaledOscillator in scene units; its conversions take SI values in and out
+// (fixed_point_checks.hpp).
+struct Q7_24 {
+  using Scalar = Fixed32;
+  template <typename Law>
+  using Seat = ScaledOscillator<Fixed32, Law>;
+  static constexpr const char* kName = "fixed32";
+  static OscillatorParams params(FrictionModel model, Integrator integrator) {
+    return firmware_params(model, integrator);
+  }
+  template <typename S>
+  static auto& model(S& seat) {
+    return seat.oscillator();
+  }
+  template <typename S>
+  static Fixed32 input(S& seat, double a_m_per_s2) {
+    return seat.acceleration(a_m_per_s2);
+  }
+  template <typename S>
+  static double metres(S& seat, Fixed32 x_r) {
+    return seat.to_si_displacement(x_r);
+  }
+  template <typename S>
+  static double acceleration(S& seat, Fixed32 a_x) {
+    return seat.to_si_acceleration(a_x);
+  }
+};
 
 }  // namespace
 
@@ -199,89 +216,19 @@ TEST(FixedPoint32Arithmetic, CountScaleConvertsWithinTheFactorsPrecision) {
   CHECK_TRUE(take_fixed_point_saturation());
 }
 
-namespace {
-
-struct Comparison {
-  double transmissibility_fixed, transmissibility_double;
-  double stick_fixed, stick_double;
-  double max_x_error_m;
-  std::uint64_t saturated_steps;
-};
-
-template <typename Law>
-Comparison compare_with_double(const OscillatorParams& params, const std::vector<double>& a_u) {
-  ScaledOscillator<Fixed32, Law> fixed;
-  Oscillator<double, Law> reference;
-  const ConfigResult fixed_status = fixed.configure(params);
-  CHECK_TEXT(fixed_status.ok(), fixed_status.message.c_str());
-  CHECK(reference.configure(params).ok());
-  fixed.oscillator().reset(Fixed32(0), Fixed32(0), fixed.acceleration(a_u[0]));
-  reference.reset(0.0, 0.0, a_u[0]);
-  RunningStatistics<double> fixed_stats, double_stats;
-  fixed_stats.reset();
-  double_stats.reset();
-  Comparison c{};
-  for (std::size_t n = 1; n < a_u.size(); ++n) {
-    const auto f = fixed.step(fixed.acceleration(a_u[n]));
-    const auto d = reference.step(a_u[n]);
-    fixed_stats.add_sample(a_u[n], fixed.to_si_acceleration(f.a_x_m_per_s2));
-    fixed_stats.add_step(f.stuck_fraction.to_double());
-    double_stats.add_sample(a_u[n], d.a_x_m_per_s2);
-    double_stats.add_step(d.stuck_fraction);
-    const double error = std::fabs(fixed.to_si_displacement(f.x_r_m) - d.x_r_m);
-    if (error > c.max_x_error_m) c.max_x_error_m = error;
-  }
-  c.transmissibility_fixed = fixed_stats.transmissibility();
-  c.transmissibility_double = double_stats.transmissibility();
-  c.stick_fixed = fixed_stats.stick_probability();
-  c.stick_double = double_stats.stick_probability();
-  c.saturated_steps = fixed.oscillator().saturated_steps();
-  return c;
-}
-
-}  // namespace
-
 TEST_GROUP(ScaledFixedPoint32Oscillator){void setup() override{(void)take_fixed_point_saturation();
 }
 }
 ;
 
-// 30 s of the lorry-like scene at dt = 1 ms, K = 1.3, with the firmware's ranges: the issue's
-// targets (T_ax within 1 %, p within 0.01, no saturation) with a wide margin, exact and symplectic.
+// With the firmware's ranges.
 TEST(ScaledFixedPoint32Oscillator, StickSlipAgreesWithDoubleOnTheLorryScene) {
-  const auto a_u = test::make_lorry_signal(3, 0.35).sample(1e-3, 30001);
-  for (Integrator integrator : {Integrator::exact, Integrator::symplectic}) {
-    OscillatorParams p = firmware_params(FrictionModel::stick_slip, integrator);
-    p.kinetic_friction_n = test::kinetic_friction_for_den_hartog(1.3, test::kMassKg, 0.35);
-    p.static_friction_n = 1.25 * p.kinetic_friction_n;
-    const Comparison c = compare_with_double<CoulombStickSlip>(p, a_u);
-    const double t_error = std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0);
-    const double p_error = std::fabs(c.stick_fixed - c.stick_double);
-    test::note_margin("fixed32 vs double T_ax relative error", t_error, 0.01);
-    test::note_margin("fixed32 vs double p absolute error", p_error, 0.01);
-    CHECK(t_error < 1e-3);
-    CHECK(p_error < 1e-3);
-    CHECK(c.stick_double > 0.3);  // the scene does stick
-    CHECK(c.max_x_error_m < 1e-4);
-    LONGS_EQUAL(0, c.saturated_steps);
-  }
+  test::check_stick_slip_agrees_with_double_on_the_lorry_scene<Q7_24>();
 }
 
+// c v_r must fit the format at the declared ranges (4 m/s here): c = 5 s/m gives 20 <= 32.
 TEST(ScaledFixedPoint32Oscillator, HeldLawsAgreeWithDouble) {
-  const auto a_u = test::make_lorry_signal(4, 0.35).sample(1e-3, 10001);
-  OscillatorParams p = firmware_params(FrictionModel::signum, Integrator::exact);
-  p.kinetic_friction_n = 20.0;
-  Comparison c = compare_with_double<SignumFriction>(p, a_u);
-  CHECK(std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0) < 1e-3);
-  LONGS_EQUAL(0, c.saturated_steps);
-  p.model = FrictionModel::smooth;
-  p.smoothing = SmoothingLaw::rational;
-  // c v_r must fit the format at the declared ranges (4 m/s here): c = 5 s/m gives 20 <= 32.
-  p.smoothing_constant_s_per_m = 5.0;
-  c = compare_with_double<SmoothFriction<SmoothingLaw::rational>>(p, a_u);
-  CHECK(std::fabs(c.transmissibility_fixed / c.transmissibility_double - 1.0) < 1e-3);
-  CHECK(c.max_x_error_m < 1e-5);
-  LONGS_EQUAL(0, c.saturated_steps);
+  test::check_held_laws_agree_with_double<Q7_24>(5.0, 1e-5);
 }
 
 // Beyond the declared input range the step saturates and says so: counted per step, outputs
@@ -336,9 +283,7 @@ TEST(ScaledFixedPoint32Oscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuant
     c.change(p);
     ScaledOscillator<Fixed32, CoulombStickSlip> seat;
     const ConfigResult result = seat.configure(p);
-    CHECK_FALSE_TEXT(result.ok(), c.parameter);
-    CHECK_TEXT(starts_with(result.message.c_str(), c.parameter), result.message.c_str());
-    CHECK_TEXT(contains(result.message.c_str(), c.quantity), result.message.c_str());
+    test::check_refused_naming(result, c.parameter, c.quantity);
   }
   // The scaled refusals say in which units their values are.
   OscillatorParams p = firmware_params(FrictionModel::stick_slip, Integrator::exact);
@@ -346,28 +291,13 @@ TEST(ScaledFixedPoint32Oscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuant
   p.displacement_range_m = 10.0;
   ScaledOscillator<Fixed32, CoulombStickSlip> seat;
   const ConfigResult result = seat.configure(p);
-  CHECK_TEXT(contains(result.message.c_str(), "in scene units"), result.message.c_str());
-  CHECK_TEXT(contains(result.message.c_str(), "displacement_range_m"), result.message.c_str());
+  CHECK_TEXT(test::contains(result.message.c_str(), "in scene units"), result.message.c_str());
+  CHECK_TEXT(test::contains(result.message.c_str(), "displacement_range_m"),
+             result.message.c_str());
 }
 
-// The extremes of the Foundation grid (test::for_each_extreme_scene) with the firmware's input
-// range and a 1 m stroke: refused by name, or run without saturation and bounded.
+// The extremes of the grid (test::for_each_extreme_scene) with the firmware's input range and a
+// 1 m stroke.
 TEST(ScaledFixedPoint32Oscillator, ExtremesAreRefusedByNameOrRunWithoutSaturation) {
-  test::ExtremeTally tally;
-  test::for_each_extreme_scene(
-      32.768, 1.0, [&](const OscillatorParams& p, const std::vector<double>& a_u, auto law) {
-        ScaledOscillator<Fixed32, typename decltype(law)::type> seat;
-        test::run_extreme(
-            seat, p, a_u, p.displacement_range_m, tally,
-            [](auto& s) -> auto& { return s.oscillator(); },
-            [](auto& s, double a) { return s.acceleration(a); },
-            [](auto& s, Fixed32 x) { return s.to_si_displacement(x); });
-      });
-  CHECK_TEXT(tally.failures == 0,
-             StringFromFormat("%d failing scenes:%s", tally.failures, tally.listed.asCharString())
-                 .asCharString());
-  CHECK(tally.accepted > 100);
-  CHECK(tally.refused > 0);
-  test::note_margin("fixed32 grid scenes accepted", tally.accepted, 0.0);
-  test::note_margin("fixed32 grid scenes refused", tally.refused, 0.0);
+  test::check_extremes_are_refused_by_name_or_run_without_saturation<Q7_24>(32.768);
 }

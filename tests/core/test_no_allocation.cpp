@@ -62,8 +62,9 @@ Activity run_counted(const OscillatorParams& params, const std::vector<T>& input
   volatile double sink = stats.transmissibility() + stats.stick_probability() + stats.rms_u();
   (void)sink;
   const auto seen = test::stop_counting_allocations();
-  // Known core issue, proven by StickSlip.FloatStribeckBreakAwayRaisesNoUnderflow: the float
-  // Stribeck law can underflow at break-away. Cleared so that this test judges allocations only.
+  // Underflow of the float Stribeck law at break-away is judged by
+  // StickSlip.FloatStribeckBreakAwayRaisesNoUnderflow. Cleared so that this test judges
+  // allocations only.
   if (sizeof(T) == sizeof(float) && Law::model == FrictionModel::stribeck)
     std::feclearexcept(FE_UNDERFLOW);
   return {seen.calls, events, stuck_steps, configured};

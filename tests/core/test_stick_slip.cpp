@@ -101,9 +101,9 @@ StuckAudit audit_run(Integrator integrator, double dt, long steps) {
     previous_x = out.x_r_m;
   }
   CHECK_EQUAL(0u, seat.event_budget_exhausted());
-  // Known core issue, proven by FloatStribeckBreakAwayRaisesNoUnderflow: the float Stribeck law
-  // squares a ~1e-20 m/s break-away velocity into a subnormal. Cleared here so that this test
-  // judges only the stuck-state definitions it states.
+  // The float Stribeck law squares a ~1e-20 m/s break-away velocity, which can underflow; that is
+  // judged by FloatStribeckBreakAwayRaisesNoUnderflow. Cleared here so that this test judges only
+  // the stuck-state definitions it states.
   if (sizeof(T) == sizeof(float) && Law::model == FrictionModel::stribeck)
     std::feclearexcept(FE_UNDERFLOW);
   return audit;

@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
-#include "host_test_support.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/candump_log.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -1,9 +1,9 @@
 #include <filesystem>
 #include <string>
 
-#include "host_test_support.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/csv_reader.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -1,4 +1,4 @@
-// Issue requirement: stick-slip with in-step events at dt = 1 ms on a 120 s lorry recording from
+// The accuracy target: stick-slip with in-step events at dt = 1 ms on a 120 s lorry recording from
 // `generate` is within 0.1 % in T_ax and 0.005 in p of the same model at dt = 1e-5 s. The fine
 // run sees the identical input (the linear interpolation of the 1 ms samples is exactly the
 // first-order hold both runs assume), so any difference is the coarse step's own error.

@@ -4,9 +4,9 @@
 #include <limits>
 #include <string>
 
-#include "host_test_support.hpp"
 #include "stickslip/host/io/number_format.hpp"
 #include "stickslip/host/signals/random.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -1,8 +1,8 @@
 #include <string>
 
-#include "host_test_support.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/output_file.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -326,9 +326,9 @@ TEST_GROUP(ReferenceEventsInsideSampleIntervals){};
 // 1e-12, with the same events and stuck time. The coarse run must therefore find every event
 // inside its intervals, including v_r returning to 0 after an event in the same interval, which
 // the sign of v_r at the interval ends cannot show. (Evidence that such intervals occur: intervals
-// with two or more events, counted by running the coarse scene interval by interval. Instrumented
-// during development, these scenes also took the solver's dip branch - |v_r| falling to 0 inside a
-// slip piece whose ends have the same sign - 8 times.)
+// with two or more events, counted by running the coarse scene interval by interval. These scenes
+// also take the solver's dip branch - |v_r| falling to 0 inside a slip piece whose ends have the
+// same sign - 8 times, as an instrumented solver counts.)
 TEST(ReferenceEventsInsideSampleIntervals, CoarseSamplingMatchesFineSamplingOfTheSameInput) {
   const double dt = 0.06;
   const std::size_t ratio = 50, count = 501;  // 30 s

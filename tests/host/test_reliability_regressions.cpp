@@ -1,5 +1,6 @@
-// Scenes the stability map (reliability/, docs/STABILITY.md) found unstable once, kept as
-// regressions on the exact input that showed them: the trade-off bench's lorry-like scene.
+// Scenes at the edge of what the float step handles, from the stability map (reliability/,
+// docs/STABILITY.md), on the exact input that exposes them: the trade-off bench's lorry-like
+// scene.
 #include <cmath>
 #include <cstddef>
 #include <vector>
@@ -15,8 +16,8 @@ TEST_GROUP(ReliabilityRegressions){};
 
 // Float Stribeck (K = 0.8, b = 504 N s/m, F_fs = 1.3 F_fk, v_S = 0.01 m/s) with euler at 0.1 ms and
 // symplectic at 0.25 ms: at a break-away with |F_L| ~ F_fs the float rounding of v_r over a
-// block started at rest faked a crossing per tick, and one step spent all 32 events of its
-// budget. Now no step exhausts it, and the run stays finite.
+// block started at rest can fake a crossing per tick and spend all 32 events of a step's
+// budget. No step may exhaust it, and the run must stay finite.
 TEST(ReliabilityRegressions, FloatStribeckBreakAwayAtTheLimitKeepsTheEventBudget) {
   host::GeneratorSpec spec;
   spec.kind = host::SignalKind::lorry;

@@ -3,9 +3,9 @@
 #include <string>
 
 #include "CppUTest/TestHarness.h"
-#include "host_test_support.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/scene_file.hpp"
+#include "support/host_test_support.hpp"
 
 using namespace stickslip;
 using stickslip::host::read_scene_file;

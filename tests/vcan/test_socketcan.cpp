@@ -21,10 +21,10 @@
 #include <thread>
 #include <vector>
 
-#include "host/host_test_support.hpp"
 #include "stickslip/host/io/candump_log.hpp"
 #include "stickslip/port/socketcan_transport.hpp"
 #include "stickslip/port/transport.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -5,8 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include "CppUTest/TestHarness.h"
-#include "host_test_support.hpp"
 #include "stickslip/metrics/ride_comfort.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
 
 using namespace stickslip;
 

@@ -6,11 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "host_test_support.hpp"
 #include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/host/run/simulation.hpp"
 #include "stickslip/host/run/sweep.hpp"
 #include "stickslip/host/signals/signal_generator.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -1,7 +1,8 @@
 #include <string>
 #include <vector>
 
-#include "host_test_support.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

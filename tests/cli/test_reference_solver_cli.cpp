@@ -6,9 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "host_test_support.hpp"
 #include "stickslip/host/run/reference_solver.hpp"
 #include "stickslip/host/signals/signal_generator.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -3,8 +3,9 @@
 #include <cmath>
 #include <string>
 
-#include "host_test_support.hpp"
 #include "stickslip/host/run/advise.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

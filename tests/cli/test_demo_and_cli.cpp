@@ -1,6 +1,7 @@
 #include <string>
 
-#include "host_test_support.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

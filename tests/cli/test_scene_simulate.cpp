@@ -7,7 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "CppUTest/TestHarness.h"
-#include "host_test_support.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
 
 using namespace stickslip;
 

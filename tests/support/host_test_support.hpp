@@ -1,5 +1,5 @@
-// Helpers for the command-line tests: a fresh temporary directory per test, in-process runs of
-// the command, and small file utilities. Header-only so every test file stands alone.
+// Helpers for the tests of the host library and the command line: a fresh temporary directory
+// per test and small file utilities. Header-only so every test file stands alone.
 #pragma once
 
 #include <algorithm>
@@ -10,12 +10,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <sstream>
 #include <string>
 #include <system_error>
 #include <vector>
-
-#include "stickslip/host/cli/cli.hpp"
 
 namespace stickslip::test {
 
@@ -52,18 +49,6 @@ class TempDir {
  private:
   std::string path_;
 };
-
-struct CliRun {
-  int status;
-  std::string out;
-  std::string err;
-};
-
-inline CliRun run_stickslip(const std::vector<std::string>& arguments) {
-  std::ostringstream out, err;
-  const int status = stickslip::host::run_cli(arguments, out, err);
-  return {status, out.str(), err.str()};
-}
 
 inline std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

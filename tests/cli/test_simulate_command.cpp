@@ -3,12 +3,13 @@
 #include <string>
 #include <vector>
 
-#include "host_test_support.hpp"
 #include "stickslip/core/fixed_point.hpp"
 #include "stickslip/core/fixed_point32.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/models/dispatch.hpp"
 #include "stickslip/models/scaled_oscillator.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -12,7 +12,7 @@
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/host/io/output_file.hpp"
-#include "stickslip/host/run/commands.hpp"
+#include "stickslip/host/io/trace_csv.hpp"
 #include "stickslip/host/run/stats_json.hpp"
 #include "stickslip/port/socketcan_transport.hpp"
 
@@ -138,27 +138,15 @@ void write_node_trace(const std::string& path, const NodeTrace& trace,
                       const std::vector<double>& t_s, double dt_s) {
   AtomicOutputFile output(path);
   CsvWriter writer(output);
-  writer.text(kSimulateHeader);
-  writer.text("\n");
+  TraceCsvWriter csv(writer);
   const double t0 = t_s.empty() ? 0.0 : t_s[0];
   for (std::size_t row = 0; row < trace.index.size(); ++row) {
     const std::uint64_t n = trace.index[row];
-    writer.number(n < t_s.size() ? t_s[n] : t0 + static_cast<double>(n) * dt_s);
-    writer.separator();
-    writer.number(trace.a_u[row]);
-    writer.separator();
-    writer.number(trace.x_r[row]);
-    writer.separator();
-    writer.number(trace.v_r[row]);
-    writer.separator();
-    writer.number(trace.a_x[row]);
-    writer.separator();
-    writer.number(trace.f_f[row]);
-    writer.separator();
-    writer.flag(trace.stuck[row] != 0);
-    writer.end_row();
+    csv.row({n < t_s.size() ? t_s[n] : t0 + static_cast<double>(n) * dt_s, trace.a_u[row],
+             trace.x_r[row], trace.v_r[row], trace.a_x[row], trace.f_f[row],
+             trace.stuck[row] != 0});
   }
-  writer.flush();
+  csv.flush();
   output.commit();
 }
 

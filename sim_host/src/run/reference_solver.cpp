@@ -13,7 +13,6 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
 
 #include "stickslip/host/error.hpp"
-#include "stickslip/host/run/simulation.hpp"  // ConfigurationError
 #include "stickslip/integrators/discretisation.hpp"
 
 namespace stickslip::host {

@@ -93,9 +93,8 @@ void require_finite(const char* option, double value) {
     throw UsageError(fmt::format("{}: must be a finite number, got {}", option, value));
 }
 
-}  // namespace
-
-SimulateResult simulate_file(const SimulateRequest& request) {
+// The request's own consistency, before any file is read.
+void check_request(const SimulateRequest& request) {
   require_finite("--x0", request.setup.x0_m);
   require_finite("--v0", request.setup.v0_m_per_s);
   if (request.setup.reference &&
@@ -122,6 +121,46 @@ SimulateResult simulate_file(const SimulateRequest& request) {
         "--scene: end stops run in double or float with the core's exact integrator "
         "(not --integrator reference, not --scalar fixed)");
   }
+}
+
+// The loop in the request's scalar type, its trace into `writer`.
+SimulationSummary run_in_scalar(const SimulateRequest& request, const SimulationSetup& setup,
+                                const SampledSignal& signal, CsvWriter& writer) {
+  SimulationSummary summary;
+  if (request.scalar == ScalarType::fixed || request.scalar == ScalarType::fixed32) {
+    SimulationTrace<double> trace;
+    try {
+      summary = request.scalar == ScalarType::fixed
+                    ? simulate_signal_fixed(setup, signal.a_u_m_per_s2, trace)
+                    : simulate_signal_fixed32(setup, signal.a_u_m_per_s2, trace);
+      add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
+    } catch (const ConfigurationError& error) {
+      throw HostError(
+          explain_configuration_error(error.what(), request.input_path, setup.params.dt_s));
+    }
+    write_trace(writer, signal, trace);
+  } else if (request.scalar == ScalarType::float32) {
+    // Converted once, before the loop: the float run sees only floats (and only finite ones).
+    for (std::size_t n = 0; n < signal.a_u_m_per_s2.size(); ++n) {
+      if (std::fabs(signal.a_u_m_per_s2[n]) > static_cast<double>(FLT_MAX)) {
+        throw HostError(
+            fmt::format("{}: a_u = {} at t = {} s is beyond the range of a float "
+                        "(--scalar float)",
+                        request.input_path, signal.a_u_m_per_s2[n], signal.t_s[n]));
+      }
+    }
+    const std::vector<float> a_u(signal.a_u_m_per_s2.begin(), signal.a_u_m_per_s2.end());
+    summary = run_and_write(setup, signal, a_u, writer, request.input_path);
+  } else {
+    summary = run_and_write(setup, signal, signal.a_u_m_per_s2, writer, request.input_path);
+  }
+  return summary;
+}
+
+}  // namespace
+
+SimulateResult simulate_file(const SimulateRequest& request) {
+  check_request(request);
   const SampledSignal signal = read_signal_file(request.input_path);  // CSV or .mat
   if (request.scene_dt_s > 0.0 &&
       std::fabs(signal.dt_s - request.scene_dt_s) > 1e-9 * request.scene_dt_s) {
@@ -139,33 +178,7 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   CsvWriter writer(output);
 
   SimulateResult result;
-  if (request.scalar == ScalarType::fixed || request.scalar == ScalarType::fixed32) {
-    SimulationTrace<double> trace;
-    try {
-      result.summary = request.scalar == ScalarType::fixed
-                           ? simulate_signal_fixed(setup, signal.a_u_m_per_s2, trace)
-                           : simulate_signal_fixed32(setup, signal.a_u_m_per_s2, trace);
-      add_ride_comfort(result.summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
-    } catch (const ConfigurationError& error) {
-      throw HostError(
-          explain_configuration_error(error.what(), request.input_path, setup.params.dt_s));
-    }
-    write_trace(writer, signal, trace);
-  } else if (request.scalar == ScalarType::float32) {
-    // Converted once, before the loop: the float run sees only floats (and only finite ones).
-    for (std::size_t n = 0; n < signal.a_u_m_per_s2.size(); ++n) {
-      if (std::fabs(signal.a_u_m_per_s2[n]) > static_cast<double>(FLT_MAX)) {
-        throw HostError(
-            fmt::format("{}: a_u = {} at t = {} s is beyond the range of a float "
-                        "(--scalar float)",
-                        request.input_path, signal.a_u_m_per_s2[n], signal.t_s[n]));
-      }
-    }
-    const std::vector<float> a_u(signal.a_u_m_per_s2.begin(), signal.a_u_m_per_s2.end());
-    result.summary = run_and_write(setup, signal, a_u, writer, request.input_path);
-  } else {
-    result.summary = run_and_write(setup, signal, signal.a_u_m_per_s2, writer, request.input_path);
-  }
+  result.summary = run_in_scalar(request, setup, signal, writer);
   result.stats_json = format_stats_json(
       result.summary,
       StatsContext{&setup, request.scalar, request.input_path, request.output_path});

@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "stickslip/can/codec.hpp"
+#include "stickslip/host/bus/ecu_node.hpp"
 #include "stickslip/host/error.hpp"
 
 namespace stickslip::host {
@@ -173,10 +174,9 @@ ResolvedModel ModelOptions::resolve(const CLI::App& command, SimulationSetup& se
     throw UsageError("--scalar: unknown scalar '" + scalar_ + "' (expected " +
                      join_choices(scalar_choices(choices_), ", ", " or ") + ")");
   }
-  if (resolved.scalar == ScalarType::fixed32 && !choices_.fixed32) {
-    throw UsageError(
-        "--scalar fixed32: offered by simulate and the Cortex-M0+ firmware "
-        "(port/baremetal), not by the host ECU node; use fixed (Q23.40)");
+  if (choices_.bus_node) {
+    const std::string refusal = ecu_node_scalar_refusal(resolved.scalar);
+    if (!refusal.empty()) throw UsageError(refusal);
   }
   default_static_friction(command, p, resolved.scene ? &*resolved.scene : nullptr);
   return resolved;

@@ -11,8 +11,6 @@ namespace stickslip::host::reference {
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #endif
 
-// One sample interval of a sticking law: stuck phases in closed form, slip phases in closed form
-// (Coulomb) or by the adaptive integrator (Stribeck), as many events as occur.
 void Solver::advance_sticking(Real a0, Real a1) {
   const Real slope = (a1 - a0) / dt_;
   Real tau = 0;
@@ -36,8 +34,6 @@ void Solver::advance_sticking(Real a0, Real a1) {
   }
 }
 
-// Stuck from tau: F_L is linear in time inside the sample; stays stuck to the end, or breaks
-// away where |F_L| reaches F_fs (returns the instant, with direction_ set).
 Real Solver::stuck_until(Real a0, Real a1, Real tau, int& events_in_sample) {
   const Real limit_end = limit_force(a1);
   if (std::fabs(limit_end) <= static_) {
@@ -60,8 +56,6 @@ Real Solver::stuck_until(Real a0, Real a1, Real tau, int& events_in_sample) {
   return tau_break;
 }
 
-// Coulomb slip from tau with friction F_fk d: the closed form, searched piece by piece for the
-// first v_r = 0 instant. Leaves the state at the event (tau_event) or at the sample end.
 Crossing Solver::slip_closed_form(Real a0, Real a1, Real slope, Real tau, Real& tau_event) {
   const Real d = direction_;
   const RampMotion motion(modes_, x_, v_, input_at(a0, a1, tau), slope, kinetic_ * d / mass_);

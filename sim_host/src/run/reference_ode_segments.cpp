@@ -21,7 +21,6 @@ Kinematics Solver::kinematics(const OdeSystem& system, const OdeState& s, double
   return {wide(s[0]), wide(s[1]), wide(a), wide(jerk)};
 }
 
-// One accepted adaptive step from t (capped at t_end); returns the new time.
 double Solver::ode_step(const OdeSystem& system, const OdeState& from, double t, double t_end,
                         OdeState& to) {
   for (int rejected = 0; rejected <= kMaxRejectedSteps; ++rejected) {
@@ -58,7 +57,6 @@ double Solver::ode_step(const OdeSystem& system, const OdeState& from, double t,
       sample_, ode_step_));
 }
 
-// Stribeck slip from tau in direction d, adaptively, with the event search inside each step.
 Crossing Solver::slip_ode(Real a0, Real a1, Real tau, Real& tau_event) {
   const double dt = p_.dt_s;
   const OdeSystem system{this, static_cast<double>(a0), static_cast<double>((a1 - a0) / dt_),
@@ -103,9 +101,6 @@ Crossing Solver::slip_ode(Real a0, Real a1, Real tau, Real& tau_event) {
   return {};
 }
 
-// Smooth laws: no events. The rational form c v/(1 + c|v|) has a jump in its second derivative
-// at v_r = 0, which costs a Runge-Kutta step its order: steps are ended at the v_r = 0 instants
-// (found like the events of the sticking laws), so that no step integrates across the kink.
 void Solver::advance_smooth() {
   const double a0 = a_u_[sample_ - 1], a1 = a_u_[sample_];
   const OdeSystem system{this, a0, (a1 - a0) / p_.dt_s, 1.0};

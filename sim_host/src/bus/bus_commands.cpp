@@ -6,15 +6,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <thread>
 
+#include "bus_endpoint.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/host/io/output_file.hpp"
-#include "stickslip/host/run/commands.hpp"
+#include "stickslip/host/io/trace_csv.hpp"
 #include "stickslip/host/run/stats_json.hpp"
-#include "stickslip/port/socketcan_transport.hpp"
 
 namespace stickslip::host {
 namespace {
@@ -43,32 +44,6 @@ void add_counters(port::TransportCounters& sum, const port::TransportCounters& m
 bool ends_with(const std::string& text, const std::string& suffix) {
   return text.size() >= suffix.size() &&
          text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-// receive_buffer_bytes > 0: SO_RCVBUF of a SocketCAN endpoint (the loopback bus has none).
-std::unique_ptr<port::Transport> open_bus(const std::string& bus, const char* option,
-                                          int receive_buffer_bytes = 0) {
-  port::SocketCanOptions options;
-  options.receive_buffer_bytes = receive_buffer_bytes;
-  std::unique_ptr<port::Transport> transport = bus == "loopback" || receive_buffer_bytes <= 0
-                                                   ? port::make_transport(bus)
-                                                   : port::make_socketcan_transport(options);
-  const port::TransportStatus status = transport->open(bus);
-  if (status != port::TransportStatus::ok) {
-    throw HostError(fmt::format("{} {}: cannot open the bus: {}", option, bus,
-                                port::transport_status_name(status)));
-  }
-  return transport;
-}
-
-// Sends, retrying briefly while the socket's queue is full (a real bus drains it).
-port::TransportStatus send_frame(port::Transport& transport, const can::Frame& frame) {
-  port::TransportStatus status = transport.send(frame);
-  for (int attempt = 0; status == port::TransportStatus::buffer_full && attempt < 100; ++attempt) {
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
-    status = transport.send(frame);
-  }
-  return status;
 }
 
 void require_dt(double dt_s, const char* option) {
@@ -138,29 +113,34 @@ void write_node_trace(const std::string& path, const NodeTrace& trace,
                       const std::vector<double>& t_s, double dt_s) {
   AtomicOutputFile output(path);
   CsvWriter writer(output);
-  writer.text(kSimulateHeader);
-  writer.text("\n");
+  TraceCsvWriter csv(writer);
   const double t0 = t_s.empty() ? 0.0 : t_s[0];
   for (std::size_t row = 0; row < trace.index.size(); ++row) {
     const std::uint64_t n = trace.index[row];
-    writer.number(n < t_s.size() ? t_s[n] : t0 + static_cast<double>(n) * dt_s);
-    writer.separator();
-    writer.number(trace.a_u[row]);
-    writer.separator();
-    writer.number(trace.x_r[row]);
-    writer.separator();
-    writer.number(trace.v_r[row]);
-    writer.separator();
-    writer.number(trace.a_x[row]);
-    writer.separator();
-    writer.number(trace.f_f[row]);
-    writer.separator();
-    writer.flag(trace.stuck[row] != 0);
-    writer.end_row();
+    csv.row({n < t_s.size() ? t_s[n] : t0 + static_cast<double>(n) * dt_s, trace.a_u[row],
+             trace.x_r[row], trace.v_r[row], trace.a_x[row], trace.f_f[row],
+             trace.stuck[row] != 0});
   }
-  writer.flush();
+  csv.flush();
   output.commit();
 }
+
+namespace {
+
+// The node receives one frame and answers it into `outputs`; false (silence counted) when none
+// came within the timeout.
+bool node_takes_one(EcuNode& node, port::Transport& node_port, int timeout_ms,
+                    std::vector<can::Frame>& outputs) {
+  can::Frame received;
+  if (node_port.receive(received, timeout_ms) != port::TransportStatus::ok) {
+    node.on_idle(now_ns());
+    return false;
+  }
+  node.on_frame(received, now_ns(), outputs);
+  return true;
+}
+
+}  // namespace
 
 ReplayResult replay_file(const ReplayRequest& request) {
   if (request.output_path.empty()) throw UsageError("--output: required");
@@ -204,14 +184,8 @@ ReplayResult replay_file(const ReplayRequest& request) {
     }
     // Lock step: the node takes everything sent so far before the next frame goes out.
     while (node_received < sent_ok) {
-      can::Frame received;
-      const port::TransportStatus status = node_port->receive(received, request.receive_timeout_ms);
-      if (status != port::TransportStatus::ok) {
-        node.on_idle(now_ns());
-        break;
-      }
+      if (!node_takes_one(node, *node_port, request.receive_timeout_ms, outputs)) break;
       ++node_received;
-      node.on_frame(received, now_ns(), outputs);
       for (const can::Frame& out : outputs) {
         if (send_frame(*node_port, out) == port::TransportStatus::ok) ++result.output_frames;
         if (log_bus) bus_log.push_back({sample_us, log_interface, out});
@@ -249,107 +223,36 @@ ReplayResult replay_file(const ReplayRequest& request) {
   return result;
 }
 
-// At most this many queued frames are still taken after a stop (a bus that never goes quiet).
-constexpr std::uint64_t kMaxDrainFrames = 1000000;
+namespace {
 
-EcuResult run_ecu(const EcuRequest& request) {
-  require_dt(request.setup.params.dt_s, "--dt");
-  const bool keep_trace = !request.output_path.empty() || !request.sample_index_path.empty();
-  if (request.receive_buffer_bytes < 0)
-    throw UsageError(
-        fmt::format("--receive-buffer: must be >= 0 bytes, got {}", request.receive_buffer_bytes));
-  EcuNode node(node_config(request.setup, request.scalar, request.checker, keep_trace));
-  std::unique_ptr<port::Transport> bus =
-      open_bus(request.bus, "--bus", request.receive_buffer_bytes);
-  EcuResult result;
-  std::vector<can::Frame> outputs;
-  outputs.reserve(16);
-  node.start(now_ns());
-  const auto stopped = [&request] { return request.stop != nullptr && *request.stop != 0; };
-  // The bus going down is an event of the run, not an error: the node keeps its state and its
-  // sequence check, so the samples the sender could not send while the bus was down show up as
-  // a gap (lost or skipped) with the first frame after it. The kernel reports the down once, to
-  // whichever call comes first (a receive, or an output send), and sends fail while it lasts:
-  // `down` is set by the first such failure and cleared by the next output frame that goes out
-  // (frames queued before the down are still received while it lasts).
-  bool down = false;
-  const auto bus_failed = [&](port::TransportStatus status) {
+// The bus going down is an event of the run, not an error: the node keeps its state and its
+// sequence check, so the samples the sender could not send while the bus was down show up as a
+// gap (lost or skipped) with the first frame after it. The kernel reports the down once, to
+// whichever call comes first (a receive, or an output send), and sends fail while it lasts:
+// `down` is set by the first such failure and cleared by the next output frame that goes out
+// (frames queued before the down are still received while it lasts).
+class BusDownCounter {
+ public:
+  explicit BusDownCounter(std::uint64_t& count) : count_(count) {}
+  void failed(port::TransportStatus status) {
     if (status != port::TransportStatus::interface_down &&
         status != port::TransportStatus::no_such_interface)
       return;
-    if (!down) ++result.bus_down;
-    down = true;
-  };
-  port::TransportCounters earlier;  // of the endpoints before a reopen
-  std::uint64_t counted = 0;        // frames for the node: all but other nodes' outputs
-  const auto take = [&](const can::Frame& frame) {
-    ++result.frames_received;
-    if (node.on_frame(frame, now_ns(), outputs) != can::FrameVerdict::ignored_output) ++counted;
-    for (const can::Frame& out : outputs) {
-      const port::TransportStatus sent = send_frame(*bus, out);
-      if (sent == port::TransportStatus::ok) {
-        ++result.output_frames;
-        down = false;
-      } else {
-        ++result.output_send_failures;
-        bus_failed(sent);
-      }
-    }
-    outputs.clear();
-  };
-  while (!stopped() && (request.max_frames == 0 || counted < request.max_frames)) {
-    can::Frame frame;
-    const port::TransportStatus status = bus->receive(frame, request.poll_ms);
-    if (status == port::TransportStatus::timeout) {
-      node.on_idle(now_ns());
-      continue;
-    }
-    if (status != port::TransportStatus::ok) {
-      if (stopped()) break;  // interrupted while waiting
-      if (status == port::TransportStatus::interface_down) {
-        bus_failed(status);  // the socket stays bound: frames arrive again once it is up
-        continue;
-      }
-      if (status == port::TransportStatus::no_such_interface) {
-        // Deleted (and the socket unbound): open it again once it is back.
-        bus_failed(status);
-        add_counters(earlier, bus->counters());  // open() starts the endpoint's counters again
-        while (!stopped() && bus->open(request.bus) != port::TransportStatus::ok) {
-          node.on_idle(now_ns());
-          std::this_thread::sleep_for(std::chrono::milliseconds(request.poll_ms));
-        }
-        continue;
-      }
-      throw HostError(fmt::format("--bus {}: receive failed: {}", request.bus,
-                                  port::transport_status_name(status)));
-    }
-    take(frame);
+    if (!down_) ++count_;
+    down_ = true;
   }
-  // Stopped by a signal: first the frames the kernel had already queued for the node (received
-  // before the stop, by their kernel time stamp), so that a node that lags behind the bus ends
-  // with the last sample sent before the stop. The first later frame ends it, unused (counted).
-  if (stopped()) {
-    const std::uint64_t stop_ns = realtime_ns();
-    can::Frame frame;
-    for (std::uint64_t n = 0;
-         n < kMaxDrainFrames && bus->receive(frame, 0) == port::TransportStatus::ok; ++n) {
-      if (frame.timestamp_ns > stop_ns) {
-        ++result.left_after_stop;
-        break;
-      }
-      take(frame);
-    }
-  }
-  result.faults = node.counters();
-  result.transport = bus->counters();
-  add_counters(result.transport, earlier);
-  bus->close();
-  result.summary = node.summary();
-  if (!request.output_path.empty()) {
-    write_node_trace(request.output_path, node.trace(), {}, request.setup.params.dt_s);
-  }
-  if (!request.sample_index_path.empty())
-    write_sample_index(request.sample_index_path, node.trace());
+  void output_sent() { down_ = false; }
+
+ private:
+  std::uint64_t& count_;
+  bool down_ = false;
+};
+
+// At most this many queued frames are still taken after a stop (a bus that never goes quiet).
+constexpr std::uint64_t kMaxDrainFrames = 1000000;
+
+// The ecu command's last line of stdout.
+std::string ecu_json(const EcuRequest& request, const EcuResult& result, const EcuNode& node) {
   nlohmann::ordered_json json;
   json["bus"] = request.bus;
   json["frames_received"] = result.frames_received;
@@ -367,7 +270,100 @@ EcuResult run_ecu(const EcuRequest& request) {
   json["faults"] = nlohmann::ordered_json::parse(fault_counters_json(result.faults));
   json["receive_drops"] = result.transport.receive_drops;
   json["malformed_reads"] = result.transport.malformed_reads;
-  result.json = json.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  return json.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+// Stopped by a signal: first the frames the kernel had already queued for the node (received
+// before the stop, by their kernel time stamp), so that a node that lags behind the bus ends
+// with the last sample sent before the stop. The first later frame ends it, unused (counted).
+void drain_after_stop(port::Transport& bus, const std::function<void(const can::Frame&)>& take,
+                      std::uint64_t& left_after_stop) {
+  const std::uint64_t stop_ns = realtime_ns();
+  can::Frame frame;
+  for (std::uint64_t n = 0;
+       n < kMaxDrainFrames && bus.receive(frame, 0) == port::TransportStatus::ok; ++n) {
+    if (frame.timestamp_ns > stop_ns) {
+      ++left_after_stop;
+      break;
+    }
+    take(frame);
+  }
+}
+
+}  // namespace
+
+EcuResult run_ecu(const EcuRequest& request) {
+  require_dt(request.setup.params.dt_s, "--dt");
+  const bool keep_trace = !request.output_path.empty() || !request.sample_index_path.empty();
+  if (request.receive_buffer_bytes < 0)
+    throw UsageError(
+        fmt::format("--receive-buffer: must be >= 0 bytes, got {}", request.receive_buffer_bytes));
+  EcuNode node(node_config(request.setup, request.scalar, request.checker, keep_trace));
+  std::unique_ptr<port::Transport> bus =
+      open_bus(request.bus, "--bus", request.receive_buffer_bytes);
+  EcuResult result;
+  std::vector<can::Frame> outputs;
+  outputs.reserve(16);
+  node.start(now_ns());
+  const auto stopped = [&request] { return request.stop != nullptr && *request.stop != 0; };
+  BusDownCounter bus_down{result.bus_down};
+  port::TransportCounters earlier;  // of the endpoints before a reopen
+  std::uint64_t counted = 0;        // frames for the node: all but other nodes' outputs
+  const std::function<void(const can::Frame&)> take = [&](const can::Frame& frame) {
+    ++result.frames_received;
+    if (node.on_frame(frame, now_ns(), outputs) != can::FrameVerdict::ignored_output) ++counted;
+    for (const can::Frame& out : outputs) {
+      const port::TransportStatus sent = send_frame(*bus, out);
+      if (sent == port::TransportStatus::ok) {
+        ++result.output_frames;
+        bus_down.output_sent();
+      } else {
+        ++result.output_send_failures;
+        bus_down.failed(sent);
+      }
+    }
+    outputs.clear();
+  };
+  while (!stopped() && (request.max_frames == 0 || counted < request.max_frames)) {
+    can::Frame frame;
+    const port::TransportStatus status = bus->receive(frame, request.poll_ms);
+    if (status == port::TransportStatus::timeout) {
+      node.on_idle(now_ns());
+      continue;
+    }
+    if (status != port::TransportStatus::ok) {
+      if (stopped()) break;  // interrupted while waiting
+      if (status == port::TransportStatus::interface_down) {
+        bus_down.failed(status);  // the socket stays bound: frames arrive again once it is up
+        continue;
+      }
+      if (status == port::TransportStatus::no_such_interface) {
+        // Deleted (and the socket unbound): open it again once it is back.
+        bus_down.failed(status);
+        add_counters(earlier, bus->counters());  // open() starts the endpoint's counters again
+        while (!stopped() && bus->open(request.bus) != port::TransportStatus::ok) {
+          node.on_idle(now_ns());
+          std::this_thread::sleep_for(std::chrono::milliseconds(request.poll_ms));
+        }
+        continue;
+      }
+      throw HostError(fmt::format("--bus {}: receive failed: {}", request.bus,
+                                  port::transport_status_name(status)));
+    }
+    take(frame);
+  }
+  if (stopped()) drain_after_stop(*bus, take, result.left_after_stop);
+  result.faults = node.counters();
+  result.transport = bus->counters();
+  add_counters(result.transport, earlier);
+  bus->close();
+  result.summary = node.summary();
+  if (!request.output_path.empty()) {
+    write_node_trace(request.output_path, node.trace(), {}, request.setup.params.dt_s);
+  }
+  if (!request.sample_index_path.empty())
+    write_sample_index(request.sample_index_path, node.trace());
+  result.json = ecu_json(request, result, node);
   return result;
 }
 
@@ -385,103 +381,6 @@ void write_sample_index(const std::string& path, const NodeTrace& trace) {
   }
   writer.flush();
   output.commit();
-}
-
-PlayResult play_file(const PlayRequest& request) {
-  if (!(request.speed > 0.0) || !std::isfinite(request.speed))
-    throw UsageError(fmt::format("--speed: must be a positive factor, got {}", request.speed));
-  const BusRecording recording = read_bus_recording(request.input_path, request.log_dt_s);
-  std::unique_ptr<port::Transport> bus = open_bus(request.bus, "--bus");
-  // The sender reads nothing: a filter no frame of the project matches (an extended id), so that
-  // the kernel does not queue the whole bus for it.
-  const port::ReceiveFilter nothing{can::kExtendedIdMask, can::kExtendedIdMask};
-  bus->set_filters(&nothing, 1);
-  PlayResult result;
-  result.frames = recording.frames.size();
-  const double interval_s = recording.dt_s / request.speed;
-  // Wakes at most once a millisecond and sends every frame due by then (at 10 kHz a sleep per
-  // frame would cost more than the sending on a slow machine). A sender that fell behind (a busy
-  // machine) catches up at no more than twice its rate: at most twice a batch's frames a wake,
-  // so that it never floods the bus, nor runs through the rest of the recording in a burst.
-  using Clock = std::chrono::steady_clock;
-  const auto interval =
-      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(interval_s));
-  const auto batch = std::max(interval, Clock::duration(std::chrono::milliseconds(1)));
-  const std::size_t max_burst =
-      2 * static_cast<std::size_t>(batch / std::max(interval, Clock::duration(1)));
-  const auto start = Clock::now();
-  std::size_t burst = 0;
-  for (std::size_t i = 0; i < recording.frames.size(); ++i) {
-    if (request.stop != nullptr && *request.stop != 0) break;
-    const auto due =
-        start + std::chrono::duration_cast<Clock::duration>(
-                    std::chrono::duration<double>(static_cast<double>(i) * interval_s));
-    if (Clock::now() < due) {
-      std::this_thread::sleep_until(due + (batch - interval));
-      burst = 0;
-    } else if (++burst > max_burst) {
-      std::this_thread::sleep_for(batch);
-      burst = 0;
-    }
-    const double late_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - due).count();
-    if (late_s > result.max_late_s) result.max_late_s = late_s;
-    // A sensor keeps sampling while the bus is down: a frame the bus refuses is not sent and
-    // not retried later (the node sees its counter missing); it is counted by the reason.
-    const port::TransportStatus status = send_frame(*bus, recording.frames[i]);
-    ++result.attempted;
-    if (status == port::TransportStatus::ok) {
-      ++result.sent;
-      continue;
-    }
-    if (result.not_sent == 0) result.first_not_sent = i;
-    result.last_not_sent = i;
-    ++result.not_sent;
-    if (status == port::TransportStatus::interface_down) {
-      ++result.interface_down;
-    } else if (status == port::TransportStatus::buffer_full) {
-      ++result.buffer_full;
-    } else {
-      ++result.other_failures;
-    }
-  }
-  result.duration_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  bus->close();
-  nlohmann::ordered_json json;
-  json["bus"] = request.bus;
-  json["input"] = request.input_path;
-  json["speed"] = request.speed;
-  json["frames"] = result.frames;
-  json["attempted"] = result.attempted;
-  json["sent"] = result.sent;
-  json["not_sent"] = result.not_sent;
-  json["interface_down"] = result.interface_down;
-  json["buffer_full"] = result.buffer_full;
-  json["other_failures"] = result.other_failures;
-  json["first_not_sent"] =
-      result.not_sent > 0 ? nlohmann::ordered_json(result.first_not_sent) : nullptr;
-  json["last_not_sent"] =
-      result.not_sent > 0 ? nlohmann::ordered_json(result.last_not_sent) : nullptr;
-  json["duration_s"] = result.duration_s;
-  json["max_late_s"] = result.max_late_s;
-  result.json = json.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
-  return result;
-}
-
-std::uint64_t record_log(const RecordRequest& request, std::uint64_t& saturated) {
-  if (request.interface.empty()) throw UsageError("--interface: must not be empty");
-  const BusRecording recording = frames_from_csv(request.input_path);
-  std::vector<LoggedFrame> logged;
-  logged.reserve(recording.frames.size());
-  for (std::size_t n = 0; n < recording.frames.size(); ++n) {
-    const double t = recording.t_s[n] - recording.t_s[0];
-    logged.push_back({static_cast<std::uint64_t>(std::llround(t * 1e6)), request.interface,
-                      recording.frames[n]});
-  }
-  write_candump_log(request.output_path, logged);
-  saturated = recording.saturated;
-  return logged.size();
 }
 
 }  // namespace stickslip::host

@@ -188,14 +188,17 @@ std::uint64_t clock_ns() {
 
 }  // namespace
 
+std::string ecu_node_scalar_refusal(ScalarType scalar) {
+  if (scalar != ScalarType::fixed32) return {};
+  return "--scalar fixed32: offered by simulate and the Cortex-M0+ firmware (port/baremetal), not "
+         "by the host ECU node; use fixed (Q23.40)";
+}
+
 EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config.checker) {
   if (config_.stats_every == 0) config_.stats_every = 1;
   if (config_.setup.reference) throw UsageError("the ECU node runs the core's integrators only");
-  if (config_.scalar == ScalarType::fixed32) {
-    throw UsageError(
-        "--scalar fixed32: offered by simulate and the Cortex-M0+ firmware "
-        "(port/baremetal), not by the host ECU node; use fixed (Q23.40)");
-  }
+  const std::string refusal = ecu_node_scalar_refusal(config_.scalar);
+  if (!refusal.empty()) throw UsageError(refusal);
   model_ = config_.scalar == ScalarType::fixed     ? make_fixed_model(config_.setup)
            : config_.scalar == ScalarType::float32 ? make_model<float>(config_.setup)
                                                    : make_model<double>(config_.setup);

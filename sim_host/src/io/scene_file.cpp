@@ -76,26 +76,12 @@ std::optional<std::uint32_t> can_id(const std::string& path, const toml::table& 
   return static_cast<std::uint32_t>(i->get());
 }
 
-}  // namespace
-
-Scene read_scene_file(const std::string& path) {
-  toml::table root;
-  try {
-    root = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    throw HostError(where(path, e.source()) + ": " + std::string(e.description()));
-  }
-  only_keys(path, root, "top level", {"scene", "seat", "end_stops", "can"});
-  const toml::table* scene_table = root["scene"].as_table();
-  if (scene_table == nullptr) throw HostError(path + ": missing table [scene]");
-  only_keys(path, *scene_table, "scene",
-            {"name", "effects", "model", "integrator", "sample_rate_hz"});
-
-  Scene scene;
-  scene.name = text(path, *scene_table, "name").value_or("");
-  const toml::node* effects_node = scene_table->get("effects");
+// [scene] effects: the bits, each named once, in a combination the core models.
+const toml::node& read_effects(const std::string& path, const toml::table& scene_table,
+                               Scene& scene) {
+  const toml::node* effects_node = scene_table.get("effects");
   if (effects_node == nullptr)
-    throw HostError(where(path, scene_table->source()) + ": [scene] needs 'effects'");
+    throw HostError(where(path, scene_table.source()) + ": [scene] needs 'effects'");
   const toml::array* effects = effects_node->as_array();
   if (effects == nullptr) fail(path, *effects_node, "'effects' must be an array of effect names");
   for (const toml::node& e : *effects) {
@@ -123,22 +109,27 @@ Scene read_scene_file(const std::string& path) {
     fail(path, *effects_node, "'stribeck' needs 'static_friction' and 'coulomb'");
   }
 
+  return *effects_node;
+}
+
+// [scene] model, integrator and sample rate, checked against the effects.
+void read_scene_model(const std::string& path, const toml::table& scene_table, Scene& scene) {
   OscillatorParams& p = scene.params;
   p.damping_ns_per_m = 0.0;
   p.kinetic_friction_n = p.static_friction_n = 0.0;
   p.model = model_for_effects(scene.effects);
   p.integrator = default_integrator(p.model);
-  if (const auto model = text(path, *scene_table, "model")) {
+  if (const auto model = text(path, scene_table, "model")) {
     FrictionModel parsed;
     if (!parse_model(model->c_str(), parsed))
-      fail(path, *scene_table->get("model"), "unknown model '" + *model + "'");
+      fail(path, *scene_table.get("model"), "unknown model '" + *model + "'");
     const bool needs_friction = parsed != FrictionModel::linear;
     const bool has_friction = (scene.effects & kCoulomb) != 0;
     if (needs_friction != has_friction ||
         ((parsed == FrictionModel::stick_slip || parsed == FrictionModel::stribeck) &&
          !(scene.effects & kStaticFriction)) ||
         (parsed == FrictionModel::stribeck) != ((scene.effects & kStribeck) != 0)) {
-      fail(path, *scene_table->get("model"),
+      fail(path, *scene_table.get("model"),
            "model '" + *model + "' does not model the scene's effects (they need '" +
                model_name(model_for_effects(scene.effects)) + "')");
     }
@@ -146,19 +137,23 @@ Scene read_scene_file(const std::string& path) {
     p.integrator = default_integrator(parsed);
     scene.model_given = true;
   }
-  if (const auto integrator = text(path, *scene_table, "integrator")) {
+  if (const auto integrator = text(path, scene_table, "integrator")) {
     if (!parse_integrator(integrator->c_str(), p.integrator)) {
-      fail(path, *scene_table->get("integrator"), "unknown integrator '" + *integrator + "'");
+      fail(path, *scene_table.get("integrator"), "unknown integrator '" + *integrator + "'");
     }
     scene.integrator_given = true;
   }
-  if (const auto rate = number(path, *scene_table, "sample_rate_hz")) {
+  if (const auto rate = number(path, scene_table, "sample_rate_hz")) {
     if (!(*rate > 0.0))
-      fail(path, *scene_table->get("sample_rate_hz"), "'sample_rate_hz' must be > 0");
+      fail(path, *scene_table.get("sample_rate_hz"), "'sample_rate_hz' must be > 0");
     scene.sample_rate_hz = *rate;
     p.dt_s = 1.0 / *rate;
   }
+}
 
+// [seat]: the parameters, each only with the effect it belongs to.
+void read_seat(const std::string& path, const toml::table& root, Scene& scene) {
+  OscillatorParams& p = scene.params;
   if (const toml::table* seat = root["seat"].as_table()) {
     only_keys(path, *seat, "seat",
               {"mass_kg", "stiffness_n_per_m", "damping_ns_per_m", "kinetic_friction_n",
@@ -198,9 +193,12 @@ Scene read_scene_file(const std::string& path) {
   } else if (root.contains("seat")) {
     fail(path, *root.get("seat"), "[seat] must be a table");
   }
-  // Coulomb without static friction: F_fs = F_fk (what the signum and smooth laws assume anyway).
-  if ((scene.effects & kStaticFriction) == 0) p.static_friction_n = p.kinetic_friction_n;
+}
 
+// [end_stops], required exactly with the end_stops effect.
+void read_end_stops(const std::string& path, const toml::table& root,
+                    const toml::node& effects_node, Scene& scene) {
+  OscillatorParams& p = scene.params;
   if (const toml::table* stops = root["end_stops"].as_table()) {
     if ((scene.effects & kEndStops) == 0)
       fail(path, *stops, "[end_stops] given but the scene has no 'end_stops' effect");
@@ -214,17 +212,20 @@ Scene read_scene_file(const std::string& path) {
     scene.stops.stiffness_n_per_m = required("stiffness_n_per_m");
     scene.stops.damping_ns_per_m = number(path, *stops, "damping_ns_per_m").value_or(0.0);
   } else if (scene.effects & kEndStops) {
-    fail(path, *effects_node,
+    fail(path, effects_node,
          "effect 'end_stops' needs an [end_stops] table (travel_m, stiffness_n_per_m)");
   }
   if ((scene.effects & kEndStops) && p.model != FrictionModel::linear &&
       p.model != FrictionModel::stick_slip) {
-    fail(path, *effects_node,
+    fail(path, effects_node,
          std::string("end stops run with no friction or with stick-slip, not '") +
              model_name(p.model) + "'");
   }
   if (scene.effects & kEndStops) p.integrator = Integrator::exact;  // the end-stop model's only one
+}
 
+// [can]: the identifiers the scene expects on the bus.
+void read_can(const std::string& path, const toml::table& root, Scene& scene) {
   if (const toml::table* can = root["can"].as_table()) {
     only_keys(path, *can, "can", {"input_id", "output_id"});
     scene.can.input_id = can_id(path, *can, "input_id");
@@ -232,6 +233,33 @@ Scene read_scene_file(const std::string& path) {
   } else if (root.contains("can")) {
     fail(path, *root.get("can"), "[can] must be a table");
   }
+}
+
+}  // namespace
+
+Scene read_scene_file(const std::string& path) {
+  toml::table root;
+  try {
+    root = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw HostError(where(path, e.source()) + ": " + std::string(e.description()));
+  }
+  only_keys(path, root, "top level", {"scene", "seat", "end_stops", "can"});
+  const toml::table* scene_table = root["scene"].as_table();
+  if (scene_table == nullptr) throw HostError(path + ": missing table [scene]");
+  only_keys(path, *scene_table, "scene",
+            {"name", "effects", "model", "integrator", "sample_rate_hz"});
+
+  Scene scene;
+  scene.name = text(path, *scene_table, "name").value_or("");
+  const toml::node& effects_node = read_effects(path, *scene_table, scene);
+  read_scene_model(path, *scene_table, scene);
+  read_seat(path, root, scene);
+  // Coulomb without static friction: F_fs = F_fk (what the signum and smooth laws assume anyway).
+  if ((scene.effects & kStaticFriction) == 0)
+    scene.params.static_friction_n = scene.params.kinetic_friction_n;
+  read_end_stops(path, root, effects_node, scene);
+  read_can(path, root, scene);
   return scene;
 }
 

@@ -1,6 +1,6 @@
 // Property: `simulate` and `replay` agree bit for bit, and two runs of each are identical, over
 // hundreds of random scenes (fixed seed). Each case runs the functions the command line runs
-// (simulate_file() and replay_file(), sim_host/include/stickslip/host/{commands,bus_commands}.hpp)
+// (simulate_file() and replay_file(), stickslip/host/{run/simulate_file,bus/bus_commands}.hpp)
 // in this process: replay encodes the recording as SeatInput frames, sends them over the
 // in-process loopback bus to an ECU node (receive checker, decode, the Observer's model step) and
 // writes the node's rows; simulate runs the same scene on the quantised samples (a_u through
@@ -25,7 +25,7 @@
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/bus/bus_commands.hpp"
 #include "stickslip/host/error.hpp"
-#include "stickslip/host/run/commands.hpp"
+#include "stickslip/host/run/simulate_file.hpp"
 
 using namespace stickslip;
 

@@ -19,4 +19,11 @@ class UsageError : public HostError {
   explicit UsageError(const std::string& message) : HostError(message) {}
 };
 
+// configure() refused the parameters; what() is the core's message, which names the parameter
+// (as in OscillatorParams, e.g. "mass_kg") and its limit.
+class ConfigurationError : public HostError {
+ public:
+  explicit ConfigurationError(const std::string& core_message) : HostError(core_message) {}
+};
+
 }  // namespace stickslip::host

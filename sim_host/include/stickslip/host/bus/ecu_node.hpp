@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "stickslip/can/frame.hpp"
@@ -85,6 +86,10 @@ class EcuNode {
   double busy_s_ = 0.0;
   std::uint8_t alive_[4] = {0, 0, 0, 0};
 };
+
+// Empty when the node runs `scalar` (double, float, fixed); else why not, as one line naming the
+// choice: fixed32 (Q7.24 in scene units) is the Cortex-M0+ firmware's scalar, not the host node's.
+std::string ecu_node_scalar_refusal(ScalarType scalar);
 
 // The counters as one JSON object (one line) and as a short human summary.
 std::string fault_counters_json(const can::FaultCounters& counters);

@@ -73,13 +73,6 @@ struct SimulationSummary {
   std::uint64_t saturated_steps = 0;  // fixed point: steps in which a value saturated
 };
 
-// configure() refused the parameters; what() is the core's message, which names the parameter
-// (as in OscillatorParams, e.g. "mass_kg") and its limit.
-class ConfigurationError : public HostError {
- public:
-  explicit ConfigurationError(const std::string& core_message) : HostError(core_message) {}
-};
-
 // The summary's run figures from a run's statistics and its model's counters (any scalar type,
 // any model with rejected_inputs(), event_budget_exhausted(), state_resets()): the one place
 // simulate, simulate --scalar fixed and the ECU node fill them.

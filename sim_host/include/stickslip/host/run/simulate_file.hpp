@@ -1,0 +1,29 @@
+// `stickslip simulate` as a function: a recording in, the trace CSV and the statistics out.
+#pragma once
+
+#include <string>
+
+#include "stickslip/host/run/simulation.hpp"
+
+namespace stickslip::host {
+
+struct SimulateRequest {
+  std::string input_path;
+  std::string output_path;
+  std::string stats_path;  // empty: no stats file
+  SimulationSetup setup;   // dt_s is taken from the input file
+  ScalarType scalar = ScalarType::float64;
+  std::string scene_path;   // --scene: checked against the input's dt when it names a sample rate
+  double scene_dt_s = 0.0;  // 0: the scene names no sample rate
+};
+
+struct SimulateResult {
+  SimulationSummary summary;
+  std::string stats_json;  // one line, no newline
+};
+
+// Reads the input, simulates, writes OUT.csv (and the stats file) atomically. Throws HostError
+// with a one-line message (file:line: problem) and leaves no output behind on any failure.
+SimulateResult simulate_file(const SimulateRequest& request);
+
+}  // namespace stickslip::host

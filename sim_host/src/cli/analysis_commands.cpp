@@ -1,0 +1,141 @@
+// stickslip psd, harmonic-balance and advise: a recording's spectrum, Den Hartog's amplitude
+// against simulation, and the cheapest model for a recording (welch.hpp, harmonic_balance.hpp,
+// advise.hpp).
+#include <fmt/format.h>
+
+#include <ostream>
+
+#include "command.hpp"
+#include "model_options.hpp"
+#include "stickslip/host/cli/cli.hpp"
+#include "stickslip/host/error.hpp"
+#include "stickslip/host/io/mat_file.hpp"
+#include "stickslip/host/io/output_file.hpp"
+#include "stickslip/host/run/advise.hpp"
+#include "stickslip/host/run/harmonic_balance.hpp"
+#include "stickslip/host/signals/seat_test_spectra.hpp"
+#include "stickslip/host/signals/welch.hpp"
+
+namespace stickslip::host {
+namespace {
+
+void write_psd_csv(const Spectrum& spectrum, const TargetSpectrum* target,
+                   const std::string& path) {
+  AtomicOutputFile file(path);
+  CsvWriter writer(file);
+  writer.text(target ? "f_hz,psd,target\n" : "f_hz,psd\n");
+  for (std::size_t k = 0; k < spectrum.psd.size(); ++k) {
+    writer.number(spectrum.frequency_hz[k]);
+    writer.separator();
+    writer.number(spectrum.psd[k]);
+    if (target) {
+      writer.separator();
+      writer.number(target_psd(*target, spectrum.frequency_hz[k]));
+    }
+    writer.end_row();
+  }
+  writer.flush();
+  file.commit();
+}
+
+class PsdCommand : public Command {
+ public:
+  void add_options(CLI::App& psd) override {
+    psd.add_option("--input", input_, "recording (CSV t,a_u or .mat)")->required();
+    psd.add_option("--segment", segment_, "samples per segment, a power of two")
+        ->capture_default_str();
+    psd.add_option("--target", target_,
+                   "also a column `target`: the PSD of this seat-test class (EM1..AG3)");
+    psd.add_option("--output", output_, "CSV file to write")->required();
+  }
+
+  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+    const TargetSpectrum* target = nullptr;
+    if (!target_.empty()) {
+      target = find_seat_test_spectrum(target_);
+      if (target == nullptr) {
+        throw UsageError("--target: unknown class '" + target_ + "' (expected one of " +
+                         spectrum_kind_names() + " except white)");
+      }
+    }
+    const SampledSignal signal = read_signal_file(input_);
+    const Spectrum spectrum = welch_psd(signal.a_u_m_per_s2, signal.dt_s, segment_);
+    write_psd_csv(spectrum, target, output_);
+    out << fmt::format("wrote {}: {} frequencies, {} segments\n", output_, spectrum.psd.size(),
+                       spectrum.segments);
+    return kExitOk;
+  }
+
+ private:
+  std::string input_, output_;
+  std::size_t segment_ = 4096;
+  std::string target_;
+};
+
+class HarmonicBalanceCommand : public Command {
+ public:
+  void add_options(CLI::App& hb) override {
+    hb.add_option("--frequency", request_.frequency_hz, "excitation frequency, Hz")
+        ->capture_default_str();
+    hb.add_option("--amplitude", request_.amplitude_m_per_s2, "A, m/s^2")->capture_default_str();
+    hb.add_option("--damping", request_.damping_ns_per_m, "b values, N s/m (comma-separated)")
+        ->delimiter(',')
+        ->capture_default_str();
+    hb.add_option("--k-range", request_.k_range, "MIN:MAX:COUNT")->capture_default_str();
+    add_seat_options(hb, request_.mass_kg, request_.stiffness_n_per_m);
+    hb.add_option("--dt", request_.dt_s, "s")->capture_default_str();
+    hb.add_option("--periods", request_.periods,
+                  "excitation periods simulated (the last quarter measured)")
+        ->capture_default_str();
+    hb.add_option("--output", output_, "CSV file to write")->required();
+  }
+
+  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+    const std::size_t rows = write_harmonic_balance_sweep(request_, output_);
+    out << fmt::format("wrote {}: {} rows\n", output_, rows);
+    return kExitOk;
+  }
+
+ private:
+  HarmonicBalanceSweepRequest request_;
+  std::string output_;
+};
+
+class AdviseCommand : public Command {
+ public:
+  void add_options(CLI::App& advise) override {
+    OscillatorParams& p = request_.params;
+    advise.add_option("--input", request_.input_path, "recording (CSV t,a_u or .mat)")->required();
+    add_seat_options(advise, p.mass_kg, p.stiffness_n_per_m);
+    advise.add_option("--damping", p.damping_ns_per_m, "damper b, N s/m")->capture_default_str();
+    add_friction_options(advise, p, true);
+    advise.add_option("--tolerance", request_.tolerance, "largest relative T_ax error accepted")
+        ->capture_default_str();
+  }
+
+  int run(CLI::App& advise_command, std::ostream& out, std::ostream&) override {
+    AdviseRequest request = request_;
+    default_static_friction(advise_command, request.params, nullptr);
+    out << format_advice(advise(request));
+    return kExitOk;
+  }
+
+ private:
+  AdviseRequest request_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_psd_command() {
+  return std::make_unique<PsdCommand>();
+}
+
+std::unique_ptr<Command> make_harmonic_balance_command() {
+  return std::make_unique<HarmonicBalanceCommand>();
+}
+
+std::unique_ptr<Command> make_advise_command() {
+  return std::make_unique<AdviseCommand>();
+}
+
+}  // namespace stickslip::host

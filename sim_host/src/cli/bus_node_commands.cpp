@@ -1,0 +1,123 @@
+// stickslip replay and ecu: the ECU node over a bus (bus_commands.hpp), with the model options
+// the node can run (kBusNodeChoices).
+#include <fmt/format.h>
+
+#include <ostream>
+
+#include "command.hpp"
+#include "model_options.hpp"
+#include "stickslip/host/bus/bus_commands.hpp"
+#include "stickslip/host/cli/cli.hpp"
+#include "stickslip/host/error.hpp"
+#include "stop_signals.hpp"
+
+namespace stickslip::host {
+namespace {
+
+constexpr const char* kNodeSceneHelp =
+    "scene file (TOML, docs/scenes/): seat, model, integrator, sample rate, CAN ids; the flags "
+    "override it";
+
+void add_checker_options(CLI::App& command, can::CheckerConfig& checker) {
+  command
+      .add_option("--max-gap", checker.max_gap,
+                  "lost samples held per gap; a longer gap is a counted resync")
+      ->capture_default_str();
+}
+
+class ReplayCommand : public Command {
+ public:
+  void add_options(CLI::App& replay) override {
+    replay.add_option("--input", request_.input_path, "CSV (t,a_u) or candump log (*.log)")
+        ->required();
+    replay.add_option("--bus", request_.bus, "loopback | a SocketCAN interface such as vcan0")
+        ->capture_default_str();
+    replay.add_option("--rate", rate_, "max | realtime")->capture_default_str();
+    replay.add_option("--output", request_.output_path, "CSV file to write")->required();
+    replay.add_option("--output-log", request_.output_log_path,
+                      "also write every frame on the bus as a candump log");
+    replay.add_option("--dt", request_.log_dt_s, "sample interval of a candump-log input, s")
+        ->capture_default_str();
+    add_checker_options(replay, request_.checker);
+    model_.add_to(replay, request_.setup, kNodeSceneHelp);
+  }
+
+  int run(CLI::App& replay, std::ostream& out, std::ostream&) override {
+    ReplayRequest request = request_;
+    const ResolvedModel model = model_.resolve(replay, request.setup);
+    request.scalar = model.scalar;
+    if (model.scene_dt_s() > 0.0 && !given(replay, "--dt")) request.log_dt_s = model.scene_dt_s();
+    if (rate_ == "realtime") {
+      request.realtime = true;
+    } else if (rate_ != "max") {
+      throw UsageError("--rate: unknown rate '" + rate_ + "' (expected max or realtime)");
+    }
+    const ReplayResult result = replay_file(request);
+    out << fmt::format(
+        "replayed {} over {}: {} frames sent, {} samples, {} output frames ({} seen "
+        "back), {} input samples saturated\n",
+        request.input_path, result.bus, result.frames_sent, result.summary.samples,
+        result.output_frames, result.output_frames_received, result.input_saturated);
+    out << fault_counters_text(result.faults) << "\n";
+    out << result.stats_json << "\n";  // the last line of stdout, for tools
+    return kExitOk;
+  }
+
+ private:
+  ReplayRequest request_;
+  std::string rate_ = "max";
+  ModelOptions model_{kBusNodeChoices};
+};
+
+class EcuCommand : public Command {
+ public:
+  void add_options(CLI::App& ecu) override {
+    ecu.add_option("--bus", request_.bus, "loopback | a SocketCAN interface such as vcan0")
+        ->required();
+    ecu.add_option(
+           "--frames", request_.max_frames,
+           "stop after this many frames for the node (all but other nodes' outputs; 0: never)")
+        ->capture_default_str();
+    ecu.add_option("--dt", request_.setup.params.dt_s, "sample interval of the stream, s")
+        ->capture_default_str();
+    ecu.add_option("--output", request_.output_path, "write the node's samples as simulate does");
+    ecu.add_option("--receive-buffer", request_.receive_buffer_bytes,
+                   "SocketCAN receive buffer (SO_RCVBUF), bytes; 0: the kernel's default")
+        ->capture_default_str();
+    ecu.add_option(
+        "--sample-index", request_.sample_index_path,
+        "write n,sample,held per row: the sender's sample number of each row, 1 if held");
+    add_checker_options(ecu, request_.checker);
+    model_.add_to(ecu, request_.setup, kNodeSceneHelp);
+  }
+
+  int run(CLI::App& ecu, std::ostream& out, std::ostream&) override {
+    EcuRequest request = request_;
+    const ResolvedModel model = model_.resolve(ecu, request.setup);  // keeps --dt's value
+    request.scalar = model.scalar;
+    if (model.scene_dt_s() > 0.0 && !given(ecu, "--dt"))
+      request.setup.params.dt_s = model.scene_dt_s();
+    const StopOnSignals signals;
+    request.stop = &stop_requested;
+    const EcuResult result = run_ecu(request);
+    out << fault_counters_text(result.faults) << "\n";
+    out << result.json << "\n";
+    return kExitOk;
+  }
+
+ private:
+  EcuRequest request_;
+  ModelOptions model_{kBusNodeChoices};
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_replay_command() {
+  return std::make_unique<ReplayCommand>();
+}
+
+std::unique_ptr<Command> make_ecu_command() {
+  return std::make_unique<EcuCommand>();
+}
+
+}  // namespace stickslip::host

@@ -1,0 +1,76 @@
+// stickslip record and play: a recording's SeatInput frames into a candump log, or onto a bus
+// without a node (bus_commands.hpp).
+#include <fmt/format.h>
+
+#include <ostream>
+
+#include "command.hpp"
+#include "stickslip/host/bus/bus_commands.hpp"
+#include "stickslip/host/cli/cli.hpp"
+#include "stop_signals.hpp"
+
+namespace stickslip::host {
+namespace {
+
+class RecordCommand : public Command {
+ public:
+  void add_options(CLI::App& record) override {
+    record.add_option("--input", request_.input_path, "CSV with columns t and a_u")->required();
+    record.add_option("--output", request_.output_path, "candump log to write")->required();
+    record.add_option("--interface", request_.interface, "interface name in the log")
+        ->capture_default_str();
+  }
+
+  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+    std::uint64_t saturated = 0;
+    const std::uint64_t frames = record_log(request_, saturated);
+    out << fmt::format("wrote {}: {} SeatInput frames on {}, {} samples saturated\n",
+                       request_.output_path, frames, request_.interface, saturated);
+    return kExitOk;
+  }
+
+ private:
+  RecordRequest request_;
+};
+
+class PlayCommand : public Command {
+ public:
+  void add_options(CLI::App& play) override {
+    play.add_option("--input", request_.input_path, "CSV (t,a_u) or candump log (*.log)")
+        ->required();
+    play.add_option("--bus", request_.bus, "loopback | a SocketCAN interface such as vcan0")
+        ->required();
+    play.add_option("--speed", request_.speed, "times real time")->capture_default_str();
+    play.add_option("--dt", request_.log_dt_s, "sample interval of a candump-log input, s")
+        ->capture_default_str();
+  }
+
+  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+    PlayRequest request = request_;
+    const StopOnSignals signals;
+    request.stop = &stop_requested;
+    const PlayResult result = play_file(request);
+    out << fmt::format(
+        "played {} on {} at {}x: {} of {} frames sent, {} not sent ({} interface "
+        "down, {} buffer full, {} other)\n",
+        request.input_path, request.bus, request.speed, result.sent, result.frames, result.not_sent,
+        result.interface_down, result.buffer_full, result.other_failures);
+    out << result.json << "\n";  // the last line of stdout, for tools
+    return kExitOk;
+  }
+
+ private:
+  PlayRequest request_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_record_command() {
+  return std::make_unique<RecordCommand>();
+}
+
+std::unique_ptr<Command> make_play_command() {
+  return std::make_unique<PlayCommand>();
+}
+
+}  // namespace stickslip::host

@@ -1,0 +1,45 @@
+// One subcommand of `stickslip`: the options it declares (stored in the object, alive while the
+// App parses) and what it does once parsed. cli.cpp holds the table of them (name, description,
+// factory); everything a test wants to call is in the libraries these commands call.
+// Private to the host library: it exposes CLI11.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace stickslip::host {
+
+class Command {
+ public:
+  virtual ~Command() = default;
+  // Declares the options on the subcommand cli.cpp created under the table's name.
+  virtual void add_options(CLI::App& command) = 0;
+  // Runs the parsed subcommand; returns the exit status (errors are thrown as HostError).
+  virtual int run(CLI::App& command, std::ostream& out, std::ostream& err) = 0;
+};
+
+// "a, b, c or d" (", ", " or ") for messages, "a | b | c" (" | ", " | ") for help.
+std::string join_choices(const std::vector<std::string>& choices, const char* separator,
+                         const char* last_separator);
+
+// Whether the user gave the option on this subcommand (not merely its default).
+bool given(const CLI::App& command, const char* option);
+
+std::unique_ptr<Command> make_generate_command();
+std::unique_ptr<Command> make_simulate_command();
+std::unique_ptr<Command> make_demo_command();
+std::unique_ptr<Command> make_replay_command();
+std::unique_ptr<Command> make_ecu_command();
+std::unique_ptr<Command> make_record_command();
+std::unique_ptr<Command> make_play_command();
+std::unique_ptr<Command> make_sweep_command();
+std::unique_ptr<Command> make_merge_command();
+std::unique_ptr<Command> make_psd_command();
+std::unique_ptr<Command> make_harmonic_balance_command();
+std::unique_ptr<Command> make_advise_command();
+
+}  // namespace stickslip::host

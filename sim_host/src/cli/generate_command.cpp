@@ -1,0 +1,107 @@
+// stickslip generate: a synthetic recording (signal_generator.hpp, seat_test_spectra.hpp).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <ostream>
+
+#include "command.hpp"
+#include "stickslip/host/cli/cli.hpp"
+#include "stickslip/host/error.hpp"
+#include "stickslip/host/signals/seat_test_spectra.hpp"
+#include "stickslip/host/signals/signal_generator.hpp"
+
+namespace stickslip::host {
+namespace {
+
+class GenerateCommand : public Command {
+ public:
+  void add_options(CLI::App& generate) override {
+    generate
+        .add_option(
+            "--kind", kind_,
+            "wideband | lorry | harmonic | white | a seat-test spectrum: " + spectrum_kind_names())
+        ->required();
+    generate.add_option("--rms", generator_.rms_m_per_s2,
+                        "RMS of a_u over the file, m/s^2 (seat-test spectra: default the "
+                        "standard's level)");
+    generate.add_option("--band-low", band_low_hz_, "white: lower corner, Hz (0: none)")
+        ->capture_default_str();
+    generate.add_option("--band-high", band_high_hz_, "white: upper corner, Hz")
+        ->capture_default_str();
+    generate
+        .add_option("--duration", generator_.duration_s, "s; samples n = 0..round(duration/dt)")
+        ->required();
+    generate.add_option("--dt", generator_.dt_s, "sample interval, s")->required();
+    generate.add_option("--seed", generator_.seed, "random seed (wideband, lorry)")
+        ->capture_default_str();
+    generate.add_option("--frequency", generator_.frequency_hz,
+                        "Hz, harmonic only (ignored by the other kinds)");
+    generate.add_option("--output", output_, "CSV file to write")->required();
+  }
+
+  int run(CLI::App& generate, std::ostream& out, std::ostream&) override {
+    if (run_spectrum(generate, out)) return kExitOk;
+    if (!given(generate, "--rms")) throw UsageError("--rms is required");
+    GeneratorSpec spec = generator_;
+    if (!parse_signal_kind(kind_, spec.kind)) {
+      throw UsageError("--kind: unknown kind '" + kind_ +
+                       "' (expected wideband, lorry, harmonic or one of " + spectrum_kind_names() +
+                       ")");
+    }
+    const std::uint64_t rows = write_generated_csv(spec, output_);
+    out << fmt::format("wrote {}: {} {} samples, dt = {} s, rms {} m/s^2{}\n", output_, rows,
+                       signal_kind_name(spec.kind), spec.dt_s, spec.rms_m_per_s2,
+                       spec.kind == SignalKind::harmonic ? fmt::format(", {} Hz", spec.frequency_hz)
+                                                         : fmt::format(", seed {}", spec.seed));
+    return kExitOk;
+  }
+
+ private:
+  // Seat-test spectra and white noise (seat_test_spectra.hpp); false for the other kinds.
+  bool run_spectrum(const CLI::App& generate, std::ostream& out) const {
+    SpectrumSignalSpec spec;
+    if (const TargetSpectrum* table = find_seat_test_spectrum(kind_)) {
+      spec.spectrum = *table;
+    } else if (kind_ == "white") {
+      if (!given(generate, "--rms")) throw UsageError("--rms is required for white");
+      if (!std::isfinite(band_low_hz_) || !(band_low_hz_ >= 0.0) || !std::isfinite(band_high_hz_) ||
+          !(band_high_hz_ > band_low_hz_)) {
+        throw UsageError(fmt::format("--band-low/--band-high: need 0 <= low < high, got {} and {}",
+                                     band_low_hz_, band_high_hz_));
+      }
+      spec.spectrum = white_noise_spectrum(band_low_hz_, band_high_hz_, 1.0);
+    } else {
+      return false;
+    }
+    spec.rms_m_per_s2 = given(generate, "--rms") ? generator_.rms_m_per_s2 : 0.0;
+    if (given(generate, "--rms") && !(spec.rms_m_per_s2 > 0.0)) {
+      throw UsageError(
+          fmt::format("--rms: must be a finite number > 0, got {}", spec.rms_m_per_s2));
+    }
+    spec.duration_s = generator_.duration_s;
+    spec.dt_s = generator_.dt_s;
+    spec.seed = generator_.seed;
+    validate(spec);
+    const double rms = requested_rms(spec);
+    const std::uint64_t rows = write_spectrum_csv(spec, output_);
+    out << fmt::format("wrote {}: {} {} samples, dt = {} s, {} {} m/s^2, seed {}\n", output_, rows,
+                       spec.spectrum.name, spec.dt_s,
+                       spec.rms_m_per_s2 > 0.0 ? "rms" : "the standard's PSD, expected rms", rms,
+                       spec.seed);
+    return true;
+  }
+
+  std::string kind_;
+  GeneratorSpec generator_;
+  std::string output_;
+  double band_low_hz_ = 0.5;  // white
+  double band_high_hz_ = 20.0;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_generate_command() {
+  return std::make_unique<GenerateCommand>();
+}
+
+}  // namespace stickslip::host

@@ -1,0 +1,53 @@
+// stickslip simulate: the model over a recording (simulate_file.hpp).
+#include <ostream>
+
+#include "command.hpp"
+#include "model_options.hpp"
+#include "stickslip/host/cli/cli.hpp"
+#include "stickslip/host/run/simulate_file.hpp"
+
+namespace stickslip::host {
+namespace {
+
+class SimulateCommand : public Command {
+ public:
+  void add_options(CLI::App& simulate) override {
+    simulate
+        .add_option("--input", request_.input_path,
+                    "CSV with columns t (uniform, s) and a_u (m/s^2)")
+        ->required();
+    simulate.add_option("--output", request_.output_path, "CSV file to write")->required();
+    simulate.add_option("--stats", request_.stats_path, "also write the statistics JSON here");
+    model_.add_to(simulate, request_.setup,
+                  "scene file (TOML, docs/scenes/): effects, seat, model, integrator, sample "
+                  "rate; the flags below override it");
+    simulate
+        .add_option("--repetitions", request_.setup.repetitions,
+                    "timed runs for ns_per_sample (default 5; 3 above 2e6 steps)")
+        ->check(CLI::PositiveNumber);
+  }
+
+  int run(CLI::App& simulate, std::ostream& out, std::ostream&) override {
+    SimulateRequest request = request_;
+    const ResolvedModel model = model_.resolve(simulate, request.setup);
+    request.scalar = model.scalar;
+    // simulate_file() checks the scene's sample rate against the recording's.
+    request.scene_path = model.scene_path;
+    request.scene_dt_s = model.scene_dt_s();
+    const SimulateResult result = simulate_file(request);
+    out << result.stats_json << "\n";  // the last line of stdout, for tools
+    return kExitOk;
+  }
+
+ private:
+  SimulateRequest request_;
+  ModelOptions model_{kSimulateChoices};
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_simulate_command() {
+  return std::make_unique<SimulateCommand>();
+}
+
+}  // namespace stickslip::host

@@ -1,0 +1,205 @@
+#include "stickslip/host/run/simulate_file.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "stickslip/host/io/csv_reader.hpp"
+#include "stickslip/host/io/mat_file.hpp"
+#include "stickslip/host/io/output_file.hpp"
+#include "stickslip/host/io/trace_csv.hpp"
+#include "stickslip/host/run/stats_json.hpp"
+
+namespace stickslip::host {
+namespace {
+
+// The option that sets each OscillatorParams field, to point the user at what to change.
+const char* option_for(const std::string& parameter) {
+  static const struct {
+    const char* parameter;
+    const char* option;
+  } table[] = {{"mass_kg", "--mass"},
+               {"stiffness_n_per_m", "--stiffness"},
+               {"damping_ns_per_m", "--damping"},
+               {"kinetic_friction_n", "--ffk"},
+               {"static_friction_n", "--ffs"},
+               {"stribeck_velocity_m_per_s", "--stribeck-velocity"},
+               {"smoothing_constant_s_per_m", "--smoothing-c"},
+               {"model", "--model"},
+               {"smoothing", "--smoothing"},
+               {"input_range_m_per_s2", "--input-range"},
+               {"displacement_range_m", "--displacement-range"},
+               {"integrator", "--integrator"}};
+  for (const auto& entry : table)
+    if (parameter == entry.parameter) return entry.option;
+  return nullptr;
+}
+
+// "--mass: mass_kg: must be >= 1e-06 ..." or, for the step, "IN.csv: dt_s: ..." (dt comes from t).
+std::string explain_configuration_error(const std::string& core_message,
+                                        const std::string& input_path, double dt_s) {
+  const std::string parameter = core_message.substr(0, core_message.find(':'));
+  if (parameter == "dt_s") {
+    return fmt::format("{}: the time step of the file (dt = {} s) does not suit this model: {}",
+                       input_path, dt_s, core_message);
+  }
+  if (const char* option = option_for(parameter)) return std::string(option) + ": " + core_message;
+  return "invalid parameters: " + core_message;
+}
+
+template <typename T>
+void write_trace(CsvWriter& writer, const SampledSignal& signal, const SimulationTrace<T>& trace) {
+  TraceCsvWriter csv(writer);
+  const std::size_t count = signal.t_s.size();
+  for (std::size_t n = 0; n < count; ++n) {
+    // t and a_u echo the input exactly
+    csv.row({signal.t_s[n], signal.a_u_m_per_s2[n], static_cast<double>(trace.x_r_m[n]),
+             static_cast<double>(trace.v_r_m_per_s[n]), static_cast<double>(trace.a_x_m_per_s2[n]),
+             static_cast<double>(trace.friction_n[n]), trace.stuck[n] != 0});
+  }
+  csv.flush();
+}
+
+template <typename T>
+SimulationSummary run_and_write(const SimulationSetup& setup, const SampledSignal& signal,
+                                const std::vector<T>& a_u, CsvWriter& writer,
+                                const std::string& input_path) {
+  SimulationTrace<T> trace;
+  SimulationSummary summary;
+  try {
+    summary = simulate_signal(setup, a_u, trace);
+  } catch (const ConfigurationError& error) {
+    throw HostError(explain_configuration_error(error.what(), input_path, setup.params.dt_s));
+  }
+  add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
+  write_trace(writer, signal, trace);
+  return summary;
+}
+
+void require_finite(const char* option, double value) {
+  if (!std::isfinite(value))
+    throw UsageError(fmt::format("{}: must be a finite number, got {}", option, value));
+}
+
+// The request's own consistency, before any file is read.
+void check_request(const SimulateRequest& request) {
+  require_finite("--x0", request.setup.x0_m);
+  require_finite("--v0", request.setup.v0_m_per_s);
+  if (request.setup.reference &&
+      (request.scalar == ScalarType::fixed || request.scalar == ScalarType::fixed32)) {
+    throw UsageError(std::string("--scalar ") + scalar_name(request.scalar) +
+                     ": the reference integrator runs in double only; use --scalar double");
+  }
+  if (request.setup.reference && request.scalar == ScalarType::float32) {
+    throw UsageError(
+        "--scalar float: the reference integrator runs in double only (long double inside); "
+        "use --scalar double");
+  }
+  if (!request.stats_path.empty()) {
+    std::error_code error;
+    if (request.stats_path == request.output_path ||
+        std::filesystem::equivalent(request.stats_path, request.output_path, error)) {
+      throw UsageError("--stats and --output name the same file: " + request.output_path);
+    }
+  }
+  if ((request.setup.effects & kEndStops) &&
+      (request.setup.reference || request.scalar == ScalarType::fixed ||
+       request.scalar == ScalarType::fixed32)) {
+    throw UsageError(
+        "--scene: end stops run in double or float with the core's exact integrator "
+        "(not --integrator reference, not --scalar fixed)");
+  }
+}
+
+// The loop in the request's scalar type, its trace into `writer`.
+SimulationSummary run_in_scalar(const SimulateRequest& request, const SimulationSetup& setup,
+                                const SampledSignal& signal, CsvWriter& writer) {
+  SimulationSummary summary;
+  if (request.scalar == ScalarType::fixed || request.scalar == ScalarType::fixed32) {
+    SimulationTrace<double> trace;
+    try {
+      summary = request.scalar == ScalarType::fixed
+                    ? simulate_signal_fixed(setup, signal.a_u_m_per_s2, trace)
+                    : simulate_signal_fixed32(setup, signal.a_u_m_per_s2, trace);
+      add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
+    } catch (const ConfigurationError& error) {
+      throw HostError(
+          explain_configuration_error(error.what(), request.input_path, setup.params.dt_s));
+    }
+    write_trace(writer, signal, trace);
+  } else if (request.scalar == ScalarType::float32) {
+    // Converted once, before the loop: the float run sees only floats (and only finite ones).
+    for (std::size_t n = 0; n < signal.a_u_m_per_s2.size(); ++n) {
+      if (std::fabs(signal.a_u_m_per_s2[n]) > static_cast<double>(FLT_MAX)) {
+        throw HostError(
+            fmt::format("{}: a_u = {} at t = {} s is beyond the range of a float "
+                        "(--scalar float)",
+                        request.input_path, signal.a_u_m_per_s2[n], signal.t_s[n]));
+      }
+    }
+    const std::vector<float> a_u(signal.a_u_m_per_s2.begin(), signal.a_u_m_per_s2.end());
+    summary = run_and_write(setup, signal, a_u, writer, request.input_path);
+  } else {
+    summary = run_and_write(setup, signal, signal.a_u_m_per_s2, writer, request.input_path);
+  }
+  return summary;
+}
+
+}  // namespace
+
+SimulateResult simulate_file(const SimulateRequest& request) {
+  check_request(request);
+  const SampledSignal signal = read_signal_file(request.input_path);  // CSV or .mat
+  if (request.scene_dt_s > 0.0 &&
+      std::fabs(signal.dt_s - request.scene_dt_s) > 1e-9 * request.scene_dt_s) {
+    throw HostError(fmt::format(
+        "{}: dt = {} s, but the scene {} has sample_rate_hz = {} (dt = {} s)", request.input_path,
+        signal.dt_s, request.scene_path, 1.0 / request.scene_dt_s, request.scene_dt_s));
+  }
+  SimulationSetup setup = request.setup;
+  setup.params.dt_s = signal.dt_s;
+
+  // Temporaries first: a bad output path fails before the work; any later failure removes them.
+  AtomicOutputFile output(request.output_path);
+  std::optional<AtomicOutputFile> stats;
+  if (!request.stats_path.empty()) stats.emplace(request.stats_path);
+  CsvWriter writer(output);
+
+  SimulateResult result;
+  result.summary = run_in_scalar(request, setup, signal, writer);
+  result.stats_json = format_stats_json(
+      result.summary,
+      StatsContext{&setup, request.scalar, request.input_path, request.output_path});
+  if (setup.reference) {
+    // The core's Integrator has no 'reference': name the solver that ran.
+    auto json = nlohmann::ordered_json::parse(result.stats_json);
+    json["integrator"] = "reference";
+    result.stats_json = json.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+  }
+  if (stats) stats->write(result.stats_json + "\n");
+
+  output.commit();
+  if (stats) {
+    try {
+      stats->commit();
+    } catch (...) {
+      std::remove(request.output_path.c_str());  // all or nothing
+      throw;
+    }
+  }
+  return result;
+}
+
+}  // namespace stickslip::host

@@ -88,3 +88,21 @@ TEST(Cli, UsageErrorsAreOneLineWithStatusTwo) {
   LONGS_EQUAL(2, flag.status);
   LONGS_EQUAL(1, stickslip::test::split_lines(flag.err).size());
 }
+
+TEST(Cli, BusNodeCommandsRefuseFixed32AtParseTimeBeforeReadingInput) {
+  // The input does not exist: a refusal that names the scalar proves the choice was judged while
+  // parsing, before any file was opened.
+  const CliRun replay =
+      run_stickslip({"replay", "--input", "no-such-recording.csv", "--output", "no-such-output.csv",
+                     "--model", "stick-slip", "--scalar", "fixed32"});
+  LONGS_EQUAL(2, replay.status);
+  STRCMP_CONTAINS("--scalar fixed32", replay.err.c_str());
+  LONGS_EQUAL(1, stickslip::test::split_lines(replay.err).size());
+  const CliRun ecu = run_stickslip({"ecu", "--bus", "loopback", "--frames", "1", "--model",
+                                    "stick-slip", "--scalar", "fixed32"});
+  LONGS_EQUAL(2, ecu.status);
+  STRCMP_CONTAINS("--scalar fixed32", ecu.err.c_str());
+  const CliRun replay_help = run_stickslip({"replay", "--help"});
+  LONGS_EQUAL(0, replay_help.status);
+  CHECK(replay_help.out.find("fixed32") == std::string::npos);
+}

@@ -13,7 +13,10 @@ packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev lib
           gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   # can-utils: the candump-log cross-check (log2asc) and the vcan guest's tools. The vcan guest
   # test (tests/vcan) boots a Debian kernel under qemu with an initramfs built by cpio and depmod.
-  can-utils qemu-system-x86 busybox-static iproute2 cpio kmod)
+  can-utils qemu-system-x86 busybox-static iproute2 cpio kmod
+  # Vector BLF log containers are zlib streams; python-can and canmatrix write and decode the
+  # recordings the log and DBC readers are checked against (tools/make-recording-fixtures.py).
+  zlib1g-dev python3-can python3-canmatrix)
 for group in "$@"; do
   case "$group" in
     --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm) ;;

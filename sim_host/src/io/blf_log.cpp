@@ -113,6 +113,12 @@ class BlfParser {
       if (uncompressed > kMaxContainerBytes)
         fail_at(offset, "log container claims " + std::to_string(uncompressed) +
                             " uncompressed bytes (at most 64 MiB are read)");
+      // Deflate expands at most 1032:1: a larger claim is refused before anything is allocated.
+      constexpr std::uint64_t kMaxDeflateRatio = 1032;
+      if (uncompressed > kMaxDeflateRatio * body_size + 64)
+        fail_at(offset, "log container claims " + std::to_string(uncompressed) +
+                            " uncompressed bytes from " + std::to_string(body_size) +
+                            " compressed ones (more than zlib can inflate)");
       inflated.resize(uncompressed);
       uLongf got = uncompressed;
       const int status = uncompress(inflated.data(), &got, body, static_cast<uLong>(body_size));

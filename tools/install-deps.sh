@@ -17,7 +17,10 @@ packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev lib
   # test (tests/vcan) boots a Debian kernel under qemu with an initramfs built by cpio and depmod.
   can-utils qemu-system-x86 busybox-static iproute2 cpio kmod
   # slurm-wlm and munge: the Slurm job-array test (tests/slurm) runs its own private daemons.
-  slurm-wlm munge)
+  slurm-wlm munge
+  # Vector BLF log containers are zlib streams; python-can and canmatrix write and decode the
+  # recordings the log and DBC readers are checked against (tools/make-recording-fixtures.py).
+  zlib1g-dev python3-can python3-canmatrix)
 for group in "$@"; do
   case "$group" in
     --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm) ;;

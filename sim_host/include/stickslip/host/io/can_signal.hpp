@@ -1,0 +1,28 @@
+// One signal of a CAN log as a time series: the frames of the signal's message (by id and id
+// width) among all the other traffic, each decoded with the DBC into the signal's unit.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "stickslip/host/io/can_log.hpp"
+#include "stickslip/host/io/dbc.hpp"
+
+namespace stickslip::host {
+
+struct SignalSeries {
+  std::string name;  // "MESSAGE.SIGNAL"
+  std::string unit;  // the DBC's unit of the signal
+  std::vector<double> t_s;
+  std::vector<double> values;
+  std::size_t frames_too_short = 0;  // frames of the message whose data cannot hold the signal
+};
+
+// `selector` is "MESSAGE.SIGNAL" as the DBC names them. Throws HostError when the DBC has no
+// such signal, or the log (named `log_path` in the message) has no frame that carries it.
+SignalSeries extract_signal(const CanLog& log, const std::string& log_path, const Dbc& dbc,
+                            std::string_view selector);
+
+}  // namespace stickslip::host

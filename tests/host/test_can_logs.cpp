@@ -7,13 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "host_test_support.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/can_log.hpp"
 #include "stickslip/host/io/can_signal.hpp"
 #include "stickslip/host/io/candump_log.hpp"
 #include "stickslip/host/io/dbc.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -5,10 +5,10 @@
 #include <cstdint>
 #include <string>
 
-#include "host_test_support.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/dbc.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "host_test_support.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/host/io/delimited_text.hpp"
+#include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
 

@@ -288,8 +288,8 @@ def label_available(label):
     if label == "vcan":
         return None if os.path.exists("/sys/class/net/vcan0") else "no vcan0 interface here"
     if label == "slurm":
-        if not shutil.which("sbatch"):
-            return "no sbatch on PATH"
+        if not shutil.which("sbatch") or not shutil.which("squeue"):
+            return "no sbatch or squeue on PATH"
         probe = subprocess.run(["squeue", "--noheader"], stdout=subprocess.DEVNULL,
                                stderr=subprocess.DEVNULL)
         return None if probe.returncode == 0 else "no reachable Slurm controller"

@@ -27,12 +27,14 @@ block's files), under bash -e -o pipefail, with the build's stickslip first on P
 
 STICKSLIP_DOCS_SHORT=SECONDS (1 means 10 s) rewrites every `--duration S` longer than that to it,
 for a quick local run; the numeric expectations and output blocks of a block it shortened are
-then reported as not checked, because the quoted figures are those of the full-length input. CTest runs the blocks at full length: they
-take a few seconds.
+then reported as not checked, because the quoted figures are those of the full-length input.
+CTest runs the blocks at full length: together they take about 20 s.
 
 Second mode, `json-keys`: runs `stickslip simulate` in several configurations and `stickslip
 replay` on the loopback bus and compares the keys of their JSON lines with the key table of
-sim_host/README.md (the table after `<!-- docs-test: json-keys -->`).
+sim_host/README.md (the table after `<!-- docs-test: json-keys -->`). Third mode, `choices`:
+the --integrator and --scalar choices of simulate, replay and ecu in sim_host/README.md's
+synopsis against those each command's --help offers.
 """
 
 import argparse
@@ -371,7 +373,8 @@ def run_docs(args):
                 counts["failed"] += 1
                 print(f"{block.where()}: FAILED")
                 print("  command:\n" + "\n".join("    " + l for l in code.rstrip().splitlines()))
-                print("  output (tail):\n" + "\n".join("    " + l for l in tail(output).splitlines()))
+                print("  output (tail):\n" +
+                      "\n".join("    " + l for l in tail(output).splitlines()))
                 for problem in problems:
                     print(f"  did not match: {problem}")
             else:
@@ -503,16 +506,71 @@ def run_json_keys(args):
     return 1 if failures else 0
 
 
+# --- choices -------------------------------------------------------------------------------------
+
+def documented_choices(source):
+    """{(command, option): set of choices} from the synopsis block under sim_host/README.md's
+    "## Commands"; a command documented as "model options as replay" inherits replay's."""
+    path = os.path.join(source, "sim_host", "README.md")
+    with open(path, encoding="utf-8") as handle:
+        text = handle.read()
+    section = text.split("## Commands", 1)
+    if len(section) < 2 or "```" not in section[1]:
+        raise DocError(f"{path}: no synopsis block under '## Commands'")
+    synopsis = section[1].split("```", 2)[1]
+    commands = {}
+    for chunk in re.split(r"^(?=stickslip )", synopsis, flags=re.M):
+        name = chunk.split()[1] if chunk.startswith("stickslip ") else None
+        if name:
+            commands[name] = commands.get(name, "") + chunk
+    choices = {}
+    for name in ("simulate", "replay", "ecu"):
+        chunk = commands.get(name, "")
+        if name == "ecu" and "model options as replay" in chunk:
+            chunk = commands.get("replay", "")
+        for option in ("--integrator", "--scalar"):
+            found = re.search(option + r"\s+([a-z0-9]+(?:\|[a-z0-9]+)+)", chunk)
+            choices[(name, option)] = set(found.group(1).split("|")) if found else set()
+    return choices
+
+
+def help_choices(stickslip, command, option):
+    result = subprocess.run([stickslip, command, "--help"], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    found = re.search(r"^\s*" + option + r"\s+TEXT\S*\s+([a-z0-9 |]+)", result.stdout,
+                      flags=re.M)
+    return {c.strip() for c in found.group(1).split("|") if c.strip()} if found else set()
+
+
+def run_choices(args):
+    stickslip = os.path.abspath(args.stickslip)
+    failures = []
+    for (command, option), documented in documented_choices(os.path.abspath(args.source)).items():
+        offered = help_choices(stickslip, command, option)
+        if not offered:
+            failures.append(f"stickslip {command} --help: no choices for {option}")
+        elif documented != offered:
+            failures.append(
+                f"{command} {option}: sim_host/README.md lists {'|'.join(sorted(documented))}, "
+                f"--help offers {'|'.join(sorted(offered))}")
+        else:
+            print(f"{command} {option}: {'|'.join(sorted(offered))}: ok")
+    for failure in failures:
+        print(f"FAILED: {failure}")
+    return 1 if failures else 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("mode", choices=["blocks", "json-keys"])
+    parser.add_argument("mode", choices=["blocks", "json-keys", "choices"])
     parser.add_argument("--source", required=True, help="the source tree")
     parser.add_argument("--stickslip", required=True, help="the built stickslip")
     parser.add_argument("--scratch", required=True, help="scratch directory (build tree)")
     parser.add_argument("--label", default="", help="run only the blocks of this label")
     args = parser.parse_args()
     try:
-        return run_docs(args) if args.mode == "blocks" else run_json_keys(args)
+        modes = {"blocks": run_docs, "json-keys": run_json_keys, "choices": run_choices}
+        return modes[args.mode](args)
     except DocError as error:
         print(f"FAILED: {error}")
         return 1

@@ -123,6 +123,17 @@ class Runner(unittest.TestCase):
         self.assertIn("not in sim_host/README.md's table: crest_factor", output)
         self.assertIn("that no run printed: no_such_key", output)
 
+    def test_choices_name_a_synopsis_that_lists_fewer_integrators_than_help(self):
+        with open(os.path.join(SOURCE, "sim_host", "README.md"), encoding="utf-8") as handle:
+            text = handle.read()
+        self.assertIn("euler|symplectic|rk4|exact|reference", text)
+        text = text.replace("euler|symplectic|rk4|exact|reference", "euler|symplectic|rk4|exact")
+        root = make_tree("choices", "", text)
+        status, output = run("choices", root)
+        self.assertEqual(status, 1, output)
+        self.assertIn("simulate --integrator: sim_host/README.md lists euler|exact|rk4|symplectic, "
+                      "--help offers euler|exact|reference|rk4|symplectic", output)
+
 
 if __name__ == "__main__":
     unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -118,12 +118,24 @@ w("*fixed*: Q23.40 on int64 in SI units (`--scalar fixed`, the host's and a 32-b
   "(`--scalar fixed32`; the firmware's own outputs equal its host build's bit for bit, below). "
   "Targets: T_ax within 1 %, p within 0.01, no saturation. Made by:")
 w("")
+# The block below runs in CTest (tests/docs/run_blocks.py), which checks this table's figures
+# against the JSON files it writes.
+w("<!-- docs-test: run -->")
+for scene in ("lorry", "wideband"):
+    for scalar in ("double", "float", "fixed", "fixed32"):
+        s = load(f"{work}/{scene}-{scalar}.json")
+        w(f'<!-- docs-test: expect {scene}-{scalar}.json "T_ax": {s["T_ax"]:.6f} ±0.000002 -->')
+        w(f'<!-- docs-test: expect {scene}-{scalar}.json "p_stick": {s["p_stick"]:.6f} ±0.000002 -->')
 w("```sh")
 w("stickslip generate --kind lorry --rms 0.35 --duration 120 --dt 0.001 --seed 1 --output lorry.csv")
 w("stickslip generate --kind wideband --rms 0.35 --duration 120 --dt 0.001 --seed 1 --output wideband.csv")
-w("stickslip simulate --input SCENE.csv --output out.csv --stats SCENE-SCALAR.json \\")
-w("    --model stick-slip --ffk 45 --ffs 45 --input-range 32.768 --displacement-range 0.1 \\")
-w("    --scalar double|float|fixed|fixed32 --repetitions 1")
+w("for scene in lorry wideband; do")
+w("  for scalar in double float fixed fixed32; do")
+w("    stickslip simulate --input $scene.csv --output out.csv --stats $scene-$scalar.json \\")
+w("      --model stick-slip --ffk 45 --ffs 45 --input-range 32.768 --displacement-range 0.1 \\")
+w("      --scalar $scalar --repetitions 1")
+w("  done")
+w("done")
 w("```")
 w("")
 

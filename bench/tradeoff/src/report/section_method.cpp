@@ -125,7 +125,10 @@ void section_reproduce(std::ostream& md, const ReportRequest& request, const Fac
         "re-run. -->\n\n";
   md << fmt::format("Measured {} on commit {}.\n\n", fact(facts, "date"), fact(facts, "commit"));
 
-  md << "## Reproduce\n\n```sh\n" << request.command << "\n```\n\n";
+  // The marker keeps tests/docs/run_blocks.py from running the whole report inside CTest.
+  md << "## Reproduce\n\n<!-- docs-test: skip reason=\"long report / set-up; run by CI itself\" "
+        "-->\n```sh\n"
+     << request.command << "\n```\n\n";
   md << "One command: installs what is missing (`tools/install-deps.sh --report`: gnuplot-nox, "
         "valgrind), "
         "configures and builds the `release` preset, counts instructions under callgrind, runs the "

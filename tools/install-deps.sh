@@ -13,7 +13,10 @@ packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev lib
           gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   # can-utils: the candump-log cross-check (log2asc) and the vcan guest's tools. The vcan guest
   # test (tests/vcan) boots a Debian kernel under qemu with an initramfs built by cpio and depmod.
-  can-utils qemu-system-x86 busybox-static iproute2 cpio kmod)
+  can-utils qemu-system-x86 busybox-static iproute2 cpio kmod
+  # The Python module (python/) and its tests (tests/python: pytest, pip install into a venv,
+  # the matplotlib example).
+  python3-dev python3-pybind11 python3-numpy python3-pytest python3-venv python3-matplotlib)
 for group in "$@"; do
   case "$group" in
     --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm) ;;

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Measures the Python module against the `stickslip` command (docs/PYTHON.md):
 
-  1. cost per sample of stickslip.simulate() called from Python (wall time of the whole call:
-     input copy, the loop, ride comfort, the numpy trace) against the command's own
-     ns_per_sample (its timed loop, median of 3 runs) on the same recording;
+  1. cost per sample from Python against the command's own ns_per_sample (its timed loop,
+     median of 3 runs) on the same recording: the loop inside simulate() (its ns_per_sample),
+     Oscillator.run() over the whole array (wall time), and the whole simulate() call (wall time:
+     input copy, loop, fresh trace arrays, the ride-comfort pass, statistics);
   2. simulate_batch's speed-up with 2 threads over 1.
 
     PYTHONPATH=build/release/python python3 examples/measure.py \
@@ -68,10 +69,19 @@ def main():
 
         whole = median_wall(call, args.runs) * 1e9 / steps
         no_trace = median_wall(lambda: call(False), args.runs) * 1e9 / steps
-        print(f"{name}: command ns_per_sample {cli_ns:.2f}; Python simulate() {whole:.2f} ns "
-              f"per sample for the whole call ({whole / cli_ns:.2f}x), {no_trace:.2f} with "
-              f"trace=False ({no_trace / cli_ns:.2f}x); the loop inside the call "
-              f"{statistics.median(loop):.2f}")
+        seat = stickslip.Oscillator(dt, **params)
+
+        def run_seat():
+            seat.reset(0.0, 0.0, a_u[0])
+            seat.run(a_u[1:])
+
+        stepped = median_wall(run_seat, args.runs) * 1e9 / steps
+        print(f"{name}: command ns_per_sample {cli_ns:.2f} | Python: the loop inside "
+              f"simulate() {statistics.median(loop):.2f} "
+              f"({statistics.median(loop) / cli_ns:.2f}x); Oscillator.run() over the array "
+              f"{stepped:.2f} ({stepped / cli_ns:.2f}x); the whole simulate() call (new trace "
+              f"arrays, ride comfort, statistics) {whole:.2f} ({whole / cli_ns:.2f}x), "
+              f"{no_trace:.2f} with trace=False ({no_trace / cli_ns:.2f}x)")
 
     batch_a_u = a_u[: int(args.batch_samples)]
     params = [dict(model="stick-slip", ffk=5.0 + 10.0 * i) for i in range(args.batch_runs)]

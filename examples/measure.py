@@ -85,16 +85,23 @@ def main():
 
     batch_a_u = a_u[: int(args.batch_samples)]
     params = [dict(model="stick-slip", ffk=5.0 + 10.0 * i) for i in range(args.batch_runs)]
-    walls = {}
+    walls, cores = {}, {}
     for threads in (1, 2):
+        before = os.times()
         walls[threads] = median_wall(
             lambda: stickslip.simulate_batch(batch_a_u, dt, params, threads=threads, trace=False),
             args.runs)
+        after = os.times()
+        # Cores the process actually had: CPU time over wall time (other load shares them).
+        cores[threads] = ((after.user + after.system - before.user - before.system) /
+                          (after.elapsed - before.elapsed))
     singles = median_wall(lambda: [stickslip.simulate(batch_a_u, dt, trace=False, **p)
                                    for p in params], args.runs)
     print(f"batch: {args.batch_runs} stick-slip runs x {len(batch_a_u)} samples: "
           f"{args.batch_runs} single calls {singles:.3f} s, threads=1 {walls[1]:.3f} s, "
-          f"threads=2 {walls[2]:.3f} s: speed-up {walls[1] / walls[2]:.2f}x")
+          f"threads=2 {walls[2]:.3f} s: speed-up {walls[1] / walls[2]:.2f}x (cores busy: "
+          f"{cores[1]:.2f} with 1 thread, {cores[2]:.2f} with 2; load average "
+          f"{os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)")
 
 
 if __name__ == "__main__":

@@ -4,7 +4,7 @@
 # that a private interpreter earlier on PATH (pyenv, conda) without numpy does not hide Debian's.
 set(STICKSLIP_PYTHON_FOUND OFF)
 if(NOT Python_EXECUTABLE)
-  find_program(_stickslip_path_python python3)
+  find_program(_stickslip_path_python python3 NO_CACHE)
   foreach(_candidate IN ITEMS ${_stickslip_path_python} /usr/bin/python3)
     if(EXISTS "${_candidate}")
       execute_process(COMMAND "${_candidate}" -c "import numpy" RESULT_VARIABLE _numpy_status

@@ -3,7 +3,9 @@
 // (tests/core/estimator_scenario.hpp): per seed and floor RMS, the errors and convergence times
 // as a Markdown table, and optionally a trace of one run for the plots of docs/IDENTIFICATION.md.
 //
-//   stickslip_estimator_validation [--seeds N] [--trace FILE] [--trace-rms R] [--trace-seed S]
+//   stickslip_estimator_validation [--seeds N] [--kinetic F_N] [--static F_N] [--trace FILE]
+//                                  [--trace-rms R] [--trace-seed S]
+// (--kinetic, --static: the truth's friction levels at t = 0; default 60 and 70 N.)
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -49,9 +51,14 @@ int main(int argc, char** argv) {
   const char* trace_path = nullptr;
   double trace_rms = 0.5;
   unsigned trace_seed = 1;
+  EstimatorScenario base;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--seeds") && i + 1 < argc) {
       seeds = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--kinetic") && i + 1 < argc) {
+      base.kinetic_friction_n = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--static") && i + 1 < argc) {
+      base.static_friction_n = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--trace") && i + 1 < argc) {
       trace_path = argv[++i];
     } else if (!std::strcmp(argv[i], "--trace-rms") && i + 1 < argc) {
@@ -75,7 +82,7 @@ int main(int argc, char** argv) {
   for (Sensors kind : kinds) {
     for (double rms : levels) {
       for (int seed = 1; seed <= seeds; ++seed) {
-        EstimatorScenario sc;
+        EstimatorScenario sc = base;
         sc.seed = std::uint64_t(seed);
         sc.floor_rms_m_per_s2 = rms;
         const std::vector<ScenarioSample> samples = make_scenario(sc);
@@ -97,7 +104,7 @@ int main(int argc, char** argv) {
     }
   }
   if (trace_path) {
-    EstimatorScenario sc;
+    EstimatorScenario sc = base;
     sc.seed = trace_seed;
     sc.floor_rms_m_per_s2 = trace_rms;
     std::vector<TraceRow> rows;

@@ -199,6 +199,7 @@ class StateEstimator {
     c_.stiffness = S::from_double(p.stiffness_n_per_m);
     c_.damping = S::from_double(p.damping_ns_per_m);
     c_.inv_stiffness = S::from_double(1.0 / p.stiffness_n_per_m);
+    c_.inv_mass = S::from_double(1.0 / m);
     c_.dt = S::from_double(dt);
     c_.half_dt = S::from_double(0.5 * dt);
     // One sample's force balance: m a_x with both accelerometers' noise, doubled for the slip
@@ -263,7 +264,7 @@ class StateEstimator {
     if (!have_ax) {
       // The model's relative acceleration stands in for the measurement.
       a_filtered_input =
-          stuck_ ? T(0) : -(c_.stiffness * x_ + c_.damping * v_ + f_) / c_.mass - a_u;
+          stuck_ ? T(0) : -(c_.stiffness * x_ + c_.damping * v_ + f_) * c_.inv_mass - a_u;
     }
     a_filtered_ += c_.filter_gain * (a_filtered_input - a_filtered_);
     if (stuck_) {
@@ -314,8 +315,8 @@ class StateEstimator {
     Covariance q{};
     T q_stuck_xx{}, x_friction{}, v_friction{};
     T r_accel{}, r_travel{}, h_x{}, h_v{}, h_f{};
-    T mass{}, stiffness{}, damping{}, inv_stiffness{}, dt{}, half_dt{}, breakaway_f_var{},
-        breakaway_balance_var{};
+    T mass{}, stiffness{}, damping{}, inv_stiffness{}, inv_mass{}, dt{}, half_dt{},
+        breakaway_f_var{}, breakaway_balance_var{};
     T kinetic_gain{}, bias_gain{}, static_weight{}, filter_gain{}, leak{};
     T stick_velocity{}, stick_acceleration{}, breakaway_velocity{}, slip_confidence{};
     T event_velocity{}, gate_squared{};

@@ -49,6 +49,10 @@ TEST(StateEstimator, ConfigureRefusesNonPhysicalParametersNamingThem) {
   CHECK_FALSE(r.ok());
   STRCMP_CONTAINS("initial_static_friction_n", r.message.c_str());
   p = StateEstimatorParams{};
+  p.travel_noise_m = 0.0;
+  p.travel_resolution_m = 0.0;  // a perfect travel sensor: the update's variance would be 0
+  CHECK_FALSE(estimator.configure(p).ok());
+  p = StateEstimatorParams{};
   p.dt_s = 0.1;  // sqrt(k/m) dt = 1.14: more than one reversal per step possible
   CHECK_FALSE(estimator.configure(p).ok());
 }

@@ -11,15 +11,17 @@
 //     and corrected by a_x = -(k x_r + b v_r + F_f)/m and by x_r. At a reversal (the predicted v_r
 //     crosses zero) F_f changes sign, as the Coulomb law says, instead of being left for the
 //     random walk to discover (a jump of 2 F_fk would need a process noise that spoils every other
-//     sample).
+//     sample). Near v_r = 0 an a_x innovation beyond a gate is an event the prediction missed: a
+//     stick if the measured relative acceleration vanished, else a reversal.
 //   - stuck: v_r = 0, x_r constant (corrected by the travel sensor), F_f = -(k x_r + m a_u), the
 //     holding force. Here a_x - a_u is pure sensor error, so its mean is the accelerometers'
 //     relative bias, learnt while stuck and removed from a_x while slipping.
 // Why model-based and not just integrate a_x - a_u: while slipping the model predicts the
 // acceleration to the accuracy of F_fk (about 1 N, 0.01 m/s^2), better than one accelerometer
-// sample (0.02 m/s^2 each for a_x and a_u), so v_r comes out several times less noisy than from
-// kinematics alone; and without a travel sensor x_r stays observable through the friction law:
-// within a slip phase only k x_r + F_f is seen, but F_f flips at each reversal while x_r does not.
+// sample (0.02 m/s^2 each for a_x and a_u), so v_r comes out less noisy than from kinematics
+// alone (docs/IDENTIFICATION.md); and without a travel sensor x_r stays observable through the
+// friction law: within a slip phase only k x_r + F_f is seen, but F_f flips at each reversal while
+// x_r does not.
 // The stuck state is decided from the measurements, never from the F_fs estimate (which is the
 // thing being learnt): stuck when |v_r| and the low-passed relative acceleration a_x - a_u are both
 // small; slipping again when a_x - a_u, integrated since the stick with a leak that bounds the
@@ -148,6 +150,11 @@ class StateEstimator {
         return refuse(q.name, q.value, " must be finite and >= 0");
       }
     }
+    if (!(p.travel_noise_m > 0.0 || p.travel_resolution_m > 0.0)) {
+      // A travel update with zero variance on a travel the filter is sure of divides by zero.
+      return refuse("travel_noise_m", p.travel_noise_m,
+                    " and travel_resolution_m must not both be 0");
+    }
     if (!std::isfinite(p.initial_static_friction_n) ||
         !(p.initial_static_friction_n >= p.initial_kinetic_friction_n)) {
       return refuse("initial_static_friction_n", p.initial_static_friction_n,
@@ -257,8 +264,9 @@ class StateEstimator {
     if (have_travel) {
       update(T(1), T(0), T(0), x_r_measured - x_, c_.r_travel);
     } else if (stuck_) {
+      // (Never a zero variance: the travel sensor's is added, F_fs may be 0.)
       const T band = static_ * c_.inv_stiffness;
-      update(T(1), T(0), T(0), -x_, band * band);
+      update(T(1), T(0), T(0), -x_, band * band + c_.r_travel);
     }
     T a_filtered_input = a_rel;
     if (!have_ax) {

@@ -13,7 +13,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxMagnitude =
     1e9;  // bound on forces, masses, stiffnesses: keeps products finite
 // Lower bounds that keep every coefficient a finite, normal number in float as well (k/m, 1/dt,
-// 1/v_S, the maps of dt/2^16): a denormal dt or v_S reached the float step as 0 or infinity.
+// 1/v_S, the maps of dt/2^16): a denormal dt or v_S would reach the float step as 0 or infinity.
 constexpr double kMinMagnitude = 1e-6;  // mass_kg, stiffness_n_per_m
 constexpr double kMinStep = 1e-9;       // dt_s, stribeck_velocity_m_per_s, smoothing constant
 constexpr double kStabilityTolerance =
@@ -199,8 +199,7 @@ bool stable(const OscillatorParams& p, double h, double slope) {
 }
 
 ConfigResult fail(Status status, const char* parameter) {
-  ConfigResult r;
-  r.status = status;
+  ConfigResult r = refusal(status);
   r.message.append(parameter).append(": ");
   return r;
 }
@@ -266,6 +265,174 @@ double stable_step_limit(const OscillatorParams& p, double slope) {
   return good;
 }
 
+// The parameters alone: finite, within their physical ranges, F_fs >= F_fk.
+bool check_parameters(const OscillatorParams& p, ConfigResult& r) {
+  if (!check_finite(p, r)) return false;
+  if (!check_range("mass_kg", p.mass_kg, kMinMagnitude, true, kMaxMagnitude, "kg", r)) return false;
+  if (!check_range("stiffness_n_per_m", p.stiffness_n_per_m, kMinMagnitude, true, kMaxMagnitude,
+                   "N/m", r))
+    return false;
+  if (!check_range("damping_ns_per_m", p.damping_ns_per_m, 0.0, true, kMaxMagnitude, "N s/m", r))
+    return false;
+  if (!check_range("dt_s", p.dt_s, kMinStep, true, 1.0, "s", r)) return false;
+  const bool has_friction = p.model != FrictionModel::linear;
+  const bool sticking = p.model == FrictionModel::stick_slip || p.model == FrictionModel::stribeck;
+  if (has_friction &&
+      !check_range("kinetic_friction_n", p.kinetic_friction_n, 0.0, true, kMaxMagnitude, "N", r))
+    return false;
+  if (sticking) {
+    if (!check_range("static_friction_n", p.static_friction_n, 0.0, true, kMaxMagnitude, "N", r))
+      return false;
+    if (p.static_friction_n < p.kinetic_friction_n) {
+      r = fail(Status::static_below_kinetic, "static_friction_n");
+      r.message.append("F_fs = ")
+          .append(p.static_friction_n)
+          .append(" N is below the kinetic friction F_fk = ")
+          .append(p.kinetic_friction_n)
+          .append(" N; static friction must be >= kinetic");
+      return false;
+    }
+  }
+  if (p.model == FrictionModel::stribeck &&
+      !check_range("stribeck_velocity_m_per_s", p.stribeck_velocity_m_per_s, kMinStep, true, 1e3,
+                   "m/s", r))
+    return false;
+  if (p.model == FrictionModel::smooth &&
+      !check_range("smoothing_constant_s_per_m", p.smoothing_constant_s_per_m, kMinStep, true, 1e12,
+                   "s/m", r))
+    return false;
+  return true;
+}
+
+// The in-step event search assumes at most one extremum of v_r per step in each mode.
+bool check_event_step(const OscillatorParams& p, double omega0, ConfigResult& r) {
+  const bool has_friction = p.model != FrictionModel::linear;
+  const bool sticking = p.model == FrictionModel::stick_slip || p.model == FrictionModel::stribeck;
+  const bool events = sticking || (has_friction && p.integrator == Integrator::exact);
+  if (events && omega0 * p.dt_s > kMaxEventPhase) {
+    r = fail(Status::out_of_range, "dt_s");
+    r.message.append("the in-step event search needs omega0*dt <= pi/2, i.e. dt <= ")
+        .append(kMaxEventPhase / omega0)
+        .append(" s for omega0 = ")
+        .append(omega0)
+        .append(" rad/s; got dt = ")
+        .append(p.dt_s)
+        .append(" s");
+    return false;
+  }
+
+  return true;
+}
+
+// Explicit Euler and symplectic Euler where they have no stable step for this scene.
+bool check_euler_variants(const OscillatorParams& p, double omega0, ConfigResult& r) {
+  // Explicit Euler on an undamped spring: radius sqrt(1 + (omega0 dt)^2) > 1 for every dt.
+  if (p.integrator == Integrator::euler && p.damping_ns_per_m == 0.0) {
+    r = fail(Status::unstable, "damping_ns_per_m");
+    r.message.append("explicit Euler has no stable dt for an undamped spring (spectral radius ")
+        .append(std::sqrt(1.0 + omega0 * omega0 * p.dt_s * p.dt_s), 15)
+        .append(" > 1 at dt = ")
+        .append(p.dt_s)
+        .append(" s); use symplectic, rk4 or exact, or damping > 0");
+    return false;
+  }
+  const bool sticking = p.model == FrictionModel::stick_slip || p.model == FrictionModel::stribeck;
+  if (sticking && p.integrator == Integrator::symplectic) {
+    const double zeta = p.damping_ns_per_m / (2.0 * std::sqrt(p.stiffness_n_per_m * p.mass_kg));
+    const double needed = kSymplecticEventDampingFactor * omega0 * omega0 * p.dt_s * p.dt_s;
+    if (zeta < needed && zeta == 0.0) {
+      // The limit dt <= sqrt(zeta / 0.25) / omega0 is 0: there is no stable dt to quote.
+      r = fail(Status::unstable, "damping_ns_per_m");
+      r.message.append("symplectic with ")
+          .append(model_name(p.model))
+          .append(" events gains energy at reversals; without damping no dt is stable")
+          .append(" (stability limit: damping ratio >= 0.25")
+          .append(" (omega0 dt)^2 = ")
+          .append(needed, 4)
+          .append(" at dt = ")
+          .append(p.dt_s)
+          .append(" s); use damping > 0, or exact/rk4");
+      return false;
+    }
+    if (zeta < needed) {
+      r = fail(Status::unstable, "damping_ns_per_m");
+      // Kept under StatusMessage's 240 characters, the advice at the end included.
+      r.message.append("symplectic with stick-slip events gains about 1.35 (omega0 dt)^2 of energy")
+          .append(" per cycle; damping ratio ")
+          .append(zeta, 4)
+          .append(" is below its stability limit ")
+          .append(needed, 4)
+          .append(" (0.25 (omega0 dt)^2); use dt <= ")
+          .append(std::sqrt(zeta / kSymplecticEventDampingFactor) / omega0, 4)
+          .append(" s, more damping, or exact/rk4");
+      return false;
+    }
+  }
+
+  return true;
+}
+
+// Stability of the chosen integrator: linearised at v_r = 0 (where a smoothed law is stiffest)
+// and with the friction saturated (slope 0, the linear part alone); both must hold. Sets the
+// spectral radius found.
+bool check_stability(const OscillatorParams& p, double& radius, ConfigResult& r) {
+  const bool velocity_friction = p.model == FrictionModel::smooth;
+  const bool explicit_friction = velocity_friction && p.integrator != Integrator::exact;
+  const double saturated_radius = linearised_radius(p, p.dt_s, 0.0);
+  const double slope =
+      explicit_friction && saturated_radius <= 1.0 + kStabilityTolerance ? smoothing_slope(p) : 0.0;
+  radius = slope > 0.0 ? linearised_radius(p, p.dt_s, slope) : saturated_radius;
+  if (!(radius <= 1.0 + kStabilityTolerance)) {
+    const double limit = stable_step_limit(p, slope);
+    if (slope > 0.0) {
+      r = fail(Status::unstable, "smoothing_constant_s_per_m");
+      r.message.append("c*F_fk*s'(0)*dt/m = ")
+          .append(slope * p.dt_s / p.mass_kg, 4)
+          .append(" makes ")
+          .append(integrator_name(p.integrator))
+          .append(" unstable (spectral radius ")
+          .append(radius, 12)
+          .append(" > 1); ");
+    } else {
+      r = fail(Status::unstable, "dt_s");
+      r.message.append(integrator_name(p.integrator))
+          .append(" is unstable for this spring and damper (spectral radius ")
+          .append(radius, 12)
+          .append(" > 1); ");
+    }
+    if (limit > 0.0) {
+      r.message.append("the stability limit is dt < ").append(limit, 4).append(" s");
+    } else {
+      r.message.append("no dt is stable (undamped); use symplectic, rk4 or exact");
+    }
+    return false;
+  }
+  return true;
+}
+
+// Every coefficient of the step, in long double, rounded once to double.
+void fill_model(const OscillatorParams& p, double omega0, double radius, DiscreteModel& out) {
+  out.params = p;
+  const Real b_m = wide(p.damping_ns_per_m) / wide(p.mass_kg);
+  const Real k_m_real = wide(p.stiffness_n_per_m) / wide(p.mass_kg);
+  for (int level = 0; level < kMapLevels; ++level) {
+    const Real h = std::ldexp(static_cast<Real>(p.dt_s), -level);
+    out.maps[level] = map_for(p.integrator, k_m_real, b_m, h);
+    out.block_s[level] = static_cast<double>(h);
+  }
+  out.inv_dt = 1.0 / p.dt_s;
+  out.inv_mass = static_cast<double>(1.0L / wide(p.mass_kg));
+  out.stiffness_over_mass = static_cast<double>(k_m_real);
+  out.damping_over_mass = static_cast<double>(b_m);
+  out.stribeck_excess_n = p.static_friction_n - p.kinetic_friction_n;
+  out.inv_stribeck_velocity =
+      p.stribeck_velocity_m_per_s > 0.0 ? 1.0 / p.stribeck_velocity_m_per_s : 0.0;
+  out.smoothing_scale_n =
+      p.smoothing == SmoothingLaw::atan ? p.kinetic_friction_n * 2.0 / kPi : p.kinetic_friction_n;
+  out.natural_frequency_rad_s = omega0;
+  out.spectral_radius = radius;
+}
+
 }  // namespace
 
 double spectral_radius(const StepMap<double>& m) noexcept {
@@ -310,151 +477,13 @@ EventSearchPlan event_search_plan(const OscillatorParams& p, double epsilon) noe
 
 ConfigResult discretise(const OscillatorParams& p, DiscreteModel& out) noexcept {
   ConfigResult r;
-  if (!check_finite(p, r)) return r;
-  if (!check_range("mass_kg", p.mass_kg, kMinMagnitude, true, kMaxMagnitude, "kg", r)) return r;
-  if (!check_range("stiffness_n_per_m", p.stiffness_n_per_m, kMinMagnitude, true, kMaxMagnitude,
-                   "N/m", r))
-    return r;
-  if (!check_range("damping_ns_per_m", p.damping_ns_per_m, 0.0, true, kMaxMagnitude, "N s/m", r))
-    return r;
-  if (!check_range("dt_s", p.dt_s, kMinStep, true, 1.0, "s", r)) return r;
-  const bool has_friction = p.model != FrictionModel::linear;
-  const bool sticking = p.model == FrictionModel::stick_slip || p.model == FrictionModel::stribeck;
-  if (has_friction &&
-      !check_range("kinetic_friction_n", p.kinetic_friction_n, 0.0, true, kMaxMagnitude, "N", r))
-    return r;
-  if (sticking) {
-    if (!check_range("static_friction_n", p.static_friction_n, 0.0, true, kMaxMagnitude, "N", r))
-      return r;
-    if (p.static_friction_n < p.kinetic_friction_n) {
-      r = fail(Status::static_below_kinetic, "static_friction_n");
-      r.message.append("F_fs = ")
-          .append(p.static_friction_n)
-          .append(" N is below the kinetic friction F_fk = ")
-          .append(p.kinetic_friction_n)
-          .append(" N; static friction must be >= kinetic");
-      return r;
-    }
-  }
-  if (p.model == FrictionModel::stribeck &&
-      !check_range("stribeck_velocity_m_per_s", p.stribeck_velocity_m_per_s, kMinStep, true, 1e3,
-                   "m/s", r))
-    return r;
-  if (p.model == FrictionModel::smooth &&
-      !check_range("smoothing_constant_s_per_m", p.smoothing_constant_s_per_m, kMinStep, true, 1e12,
-                   "s/m", r))
-    return r;
-
+  if (!check_parameters(p, r)) return r;
   const double k_m = p.stiffness_n_per_m / p.mass_kg;
   const double omega0 = std::sqrt(k_m);
-  const bool events = sticking || (has_friction && p.integrator == Integrator::exact);
-  if (events && omega0 * p.dt_s > kMaxEventPhase) {
-    r = fail(Status::out_of_range, "dt_s");
-    r.message.append("the in-step event search needs omega0*dt <= pi/2, i.e. dt <= ")
-        .append(kMaxEventPhase / omega0)
-        .append(" s for omega0 = ")
-        .append(omega0)
-        .append(" rad/s; got dt = ")
-        .append(p.dt_s)
-        .append(" s");
-    return r;
-  }
-
-  // Explicit Euler on an undamped spring: radius sqrt(1 + (omega0 dt)^2) > 1 for every dt.
-  if (p.integrator == Integrator::euler && p.damping_ns_per_m == 0.0) {
-    r = fail(Status::unstable, "damping_ns_per_m");
-    r.message.append("explicit Euler has no stable dt for an undamped spring (spectral radius ")
-        .append(std::sqrt(1.0 + omega0 * omega0 * p.dt_s * p.dt_s), 15)
-        .append(" > 1 at dt = ")
-        .append(p.dt_s)
-        .append(" s); use symplectic, rk4 or exact, or damping > 0");
-    return r;
-  }
-  if (sticking && p.integrator == Integrator::symplectic) {
-    const double zeta = p.damping_ns_per_m / (2.0 * std::sqrt(p.stiffness_n_per_m * p.mass_kg));
-    const double needed = kSymplecticEventDampingFactor * omega0 * omega0 * p.dt_s * p.dt_s;
-    if (zeta < needed && zeta == 0.0) {
-      // The limit dt <= sqrt(zeta / 0.25) / omega0 is 0: there is no stable dt to quote.
-      r = fail(Status::unstable, "damping_ns_per_m");
-      r.message.append("symplectic with ")
-          .append(model_name(p.model))
-          .append(" events gains energy at reversals; without damping no dt is stable")
-          .append(" (stability limit: damping ratio >= 0.25")
-          .append(" (omega0 dt)^2 = ")
-          .append(needed, 4)
-          .append(" at dt = ")
-          .append(p.dt_s)
-          .append(" s); use damping > 0, or exact/rk4");
-      return r;
-    }
-    if (zeta < needed) {
-      r = fail(Status::unstable, "damping_ns_per_m");
-      // Kept under StatusMessage's 240 characters, the advice at the end included.
-      r.message.append("symplectic with stick-slip events gains about 1.35 (omega0 dt)^2 of energy")
-          .append(" per cycle; damping ratio ")
-          .append(zeta, 4)
-          .append(" is below its stability limit ")
-          .append(needed, 4)
-          .append(" (0.25 (omega0 dt)^2); use dt <= ")
-          .append(std::sqrt(zeta / kSymplecticEventDampingFactor) / omega0, 4)
-          .append(" s, more damping, or exact/rk4");
-      return r;
-    }
-  }
-
-  // Stability of the chosen integrator: linearised at v_r = 0 (where a smoothed law is stiffest)
-  // and with the friction saturated (slope 0, the linear part alone); both must hold.
-  const bool velocity_friction = p.model == FrictionModel::smooth;
-  const bool explicit_friction = velocity_friction && p.integrator != Integrator::exact;
-  const double saturated_radius = linearised_radius(p, p.dt_s, 0.0);
-  const double slope =
-      explicit_friction && saturated_radius <= 1.0 + kStabilityTolerance ? smoothing_slope(p) : 0.0;
-  const double radius = slope > 0.0 ? linearised_radius(p, p.dt_s, slope) : saturated_radius;
-  if (!(radius <= 1.0 + kStabilityTolerance)) {
-    const double limit = stable_step_limit(p, slope);
-    if (slope > 0.0) {
-      r = fail(Status::unstable, "smoothing_constant_s_per_m");
-      r.message.append("c*F_fk*s'(0)*dt/m = ")
-          .append(slope * p.dt_s / p.mass_kg, 4)
-          .append(" makes ")
-          .append(integrator_name(p.integrator))
-          .append(" unstable (spectral radius ")
-          .append(radius, 12)
-          .append(" > 1); ");
-    } else {
-      r = fail(Status::unstable, "dt_s");
-      r.message.append(integrator_name(p.integrator))
-          .append(" is unstable for this spring and damper (spectral radius ")
-          .append(radius, 12)
-          .append(" > 1); ");
-    }
-    if (limit > 0.0) {
-      r.message.append("the stability limit is dt < ").append(limit, 4).append(" s");
-    } else {
-      r.message.append("no dt is stable (undamped); use symplectic, rk4 or exact");
-    }
-    return r;
-  }
-
-  out.params = p;
-  const Real b_m = wide(p.damping_ns_per_m) / wide(p.mass_kg);
-  const Real k_m_real = wide(p.stiffness_n_per_m) / wide(p.mass_kg);
-  for (int level = 0; level < kMapLevels; ++level) {
-    const Real h = std::ldexp(static_cast<Real>(p.dt_s), -level);
-    out.maps[level] = map_for(p.integrator, k_m_real, b_m, h);
-    out.block_s[level] = static_cast<double>(h);
-  }
-  out.inv_dt = 1.0 / p.dt_s;
-  out.inv_mass = static_cast<double>(1.0L / wide(p.mass_kg));
-  out.stiffness_over_mass = static_cast<double>(k_m_real);
-  out.damping_over_mass = static_cast<double>(b_m);
-  out.stribeck_excess_n = p.static_friction_n - p.kinetic_friction_n;
-  out.inv_stribeck_velocity =
-      p.stribeck_velocity_m_per_s > 0.0 ? 1.0 / p.stribeck_velocity_m_per_s : 0.0;
-  out.smoothing_scale_n =
-      p.smoothing == SmoothingLaw::atan ? p.kinetic_friction_n * 2.0 / kPi : p.kinetic_friction_n;
-  out.natural_frequency_rad_s = omega0;
-  out.spectral_radius = radius;
+  if (!check_event_step(p, omega0, r) || !check_euler_variants(p, omega0, r)) return r;
+  double radius = 0.0;
+  if (!check_stability(p, radius, r)) return r;
+  fill_model(p, omega0, radius, out);
   return r;
 }
 

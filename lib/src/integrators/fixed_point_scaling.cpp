@@ -14,8 +14,7 @@ struct Checker {
   ConfigResult& result;
 
   bool refuse(Status status, const char* parameter) {
-    result.status = status;
-    result.message.clear();
+    result = refusal(status);
     result.message.append(parameter).append(": ");
     return false;
   }
@@ -53,40 +52,35 @@ struct Checker {
   }
 };
 
-}  // namespace
-
-ConfigResult check_fixed_point_scene(const OscillatorParams& p, const DiscreteModel& model,
-                                     int integer_bits, int fraction_bits, int tick_level) noexcept {
-  ConfigResult r;
-  char format[16] = "Q";
-  {
-    // "Q<I>.<F>" without printf.
-    int at = 1;
-    for (int value : {integer_bits, fraction_bits}) {
-      if (value >= 10) format[at++] = static_cast<char>('0' + value / 10);
-      format[at++] = static_cast<char>('0' + value % 10);
-      format[at++] = '.';
-    }
-    format[at - 1] = '\0';
+// "Q<I>.<F>" without printf.
+void format_name(int integer_bits, int fraction_bits, char (&format)[16]) {
+  int at = 1;
+  for (int value : {integer_bits, fraction_bits}) {
+    if (value >= 10) format[at++] = static_cast<char>('0' + value / 10);
+    format[at++] = static_cast<char>('0' + value % 10);
+    format[at++] = '.';
   }
-  Checker c{std::ldexp(1.0, integer_bits - kFixedPointHeadroomBits),
-            kFixedPointMinimumSteps * std::ldexp(1.0, -fraction_bits), format, r};
+  format[at - 1] = '\0';
+}
 
+// The laws and integrators fixed point offers, and ranges it can scale to.
+bool offered(const OscillatorParams& p, Checker& c) {
+  ConfigResult& r = c.result;
   if (p.model == FrictionModel::stribeck) {
     c.refuse(Status::unsupported, "model");
     r.message.append("stribeck needs exp(), which the fixed-point scalar does not offer");
-    return r;
+    return false;
   }
   if (p.model == FrictionModel::smooth && p.smoothing != SmoothingLaw::rational) {
     c.refuse(Status::unsupported, "smoothing");
     r.message.append(smoothing_name(p.smoothing))
         .append(" needs a transcendental function; fixed point offers the rational form only");
-    return r;
+    return false;
   }
   if (p.integrator == Integrator::rk4) {
     c.refuse(Status::unsupported, "integrator");
     r.message.append("rk4 is not offered in fixed point (use exact, symplectic or euler)");
-    return r;
+    return false;
   }
   for (const auto& range :
        {std::pair<const char*, double>{"input_range_m_per_s2", p.input_range_m_per_s2},
@@ -94,9 +88,52 @@ ConfigResult check_fixed_point_scene(const OscillatorParams& p, const DiscreteMo
     if (!(std::isfinite(range.second) && range.second > 0.0)) {
       c.refuse(Status::out_of_range, range.first);
       r.message.append("must be a finite number > 0, got ").append(range.second);
-      return r;
+      return false;
     }
   }
+  return true;
+}
+
+// The parameters and the coefficients derived from them.
+bool coefficients_fit(const OscillatorParams& p, const DiscreteModel& model, int tick_level,
+                      Checker& c) {
+  const bool friction = p.model != FrictionModel::linear;
+  const bool sticking = p.model == FrictionModel::stick_slip;
+  const bool rational = p.model == FrictionModel::smooth;
+  return c.fits("mass_kg", "the mass m", p.mass_kg, "kg") &&
+         c.fits("mass_kg", "1/m", model.inv_mass, "1/kg") &&
+         c.resolved("mass_kg", "1/m", model.inv_mass, "1/kg") &&
+         c.fits("stiffness_n_per_m", "the stiffness k", p.stiffness_n_per_m, "N/m") &&
+         c.fits("stiffness_n_per_m", "k/m", model.stiffness_over_mass, "1/s^2") &&
+         c.resolved("stiffness_n_per_m", "k/m", model.stiffness_over_mass, "1/s^2") &&
+         c.fits("damping_ns_per_m", "the damping b", p.damping_ns_per_m, "N s/m") &&
+         c.fits("damping_ns_per_m", "b/m", model.damping_over_mass, "1/s") &&
+         c.resolved("damping_ns_per_m", "b/m", model.damping_over_mass, "1/s") &&
+         (!friction || (c.fits("kinetic_friction_n", "F_fk", p.kinetic_friction_n, "N") &&
+                        c.resolved("kinetic_friction_n", "F_fk", p.kinetic_friction_n, "N"))) &&
+         (!sticking || (c.fits("static_friction_n", "F_fs", p.static_friction_n, "N") &&
+                        c.resolved("static_friction_n", "F_fs", p.static_friction_n, "N"))) &&
+         (!rational ||
+          (c.fits("smoothing_constant_s_per_m", "c", p.smoothing_constant_s_per_m, "s/m") &&
+           c.resolved("smoothing_constant_s_per_m", "c", p.smoothing_constant_s_per_m, "s/m"))) &&
+         c.fits("dt_s", "1/dt", model.inv_dt, "1/s") && c.resolved("dt_s", "dt", p.dt_s, "s") &&
+         (tick_level < 0 || tick_level > kEventLevels ||
+          c.resolved("dt_s", "the event tick dt/2^level", model.block_s[tick_level], "s")) &&
+         // The whole-step map (the common path): every non-zero coefficient keeps its precision.
+         c.resolved("dt_s", "the step map coefficient xv (v_r -> x_r)", model.maps[0].xv, "s") &&
+         c.resolved("dt_s", "the step map coefficient vx (x_r -> v_r)", model.maps[0].vx, "1/s") &&
+         c.resolved("dt_s", "the step map coefficient gx0 (input at the start -> x_r)",
+                    model.maps[0].gx0, "s^2") &&
+         c.resolved("dt_s", "the step map coefficient gx1 (input at the end -> x_r)",
+                    model.maps[0].gx1, "s^2") &&
+         c.resolved("dt_s", "the step map coefficient gv0 (input at the start -> v_r)",
+                    model.maps[0].gv0, "s") &&
+         c.resolved("dt_s", "the step map coefficient gv1 (input at the end -> v_r)",
+                    model.maps[0].gv1, "s");
+}
+
+// What the step forms at the declared ranges.
+bool intermediates_fit(const OscillatorParams& p, const DiscreteModel& model, Checker& c) {
   const bool friction = p.model != FrictionModel::linear;
   const bool sticking = p.model == FrictionModel::stick_slip;
   const bool rational = p.model == FrictionModel::smooth;
@@ -106,58 +143,37 @@ ConfigResult check_fixed_point_scene(const OscillatorParams& p, const DiscreteMo
   const double v_range = omega0 * x_range + a_range / omega0;
   const double friction_max =
       sticking ? p.static_friction_n : (friction ? p.kinetic_friction_n : 0.0);
+  return c.fits("input_range_m_per_s2", "the input force m*a_u", p.mass_kg * a_range, "N") &&
+         c.fits("displacement_range_m", "the spring force k*x_r", p.stiffness_n_per_m * x_range,
+                "N") &&
+         c.fits("displacement_range_m", "the damper force b*v_r (v_r up to omega0*x + a/omega0)",
+                p.damping_ns_per_m * v_range, "N") &&
+         c.fits("input_range_m_per_s2", "the limit force m*a_u + k*x_r",
+                p.mass_kg * a_range + p.stiffness_n_per_m * x_range, "N") &&
+         c.fits("input_range_m_per_s2", "the seat acceleration (k x_r + b v_r + F_f)/m + a_u",
+                (p.stiffness_n_per_m * x_range + p.damping_ns_per_m * v_range + friction_max) *
+                        model.inv_mass +
+                    a_range,
+                "m/s^2") &&
+         (!rational ||
+          (c.fits("smoothing_constant_s_per_m", "c*v_r", p.smoothing_constant_s_per_m * v_range,
+                  "1") &&
+           c.fits("smoothing_constant_s_per_m", "F_fk*c*v_r",
+                  model.smoothing_scale_n * p.smoothing_constant_s_per_m * v_range, "N")));
+}
 
-  const bool ok =
-      // The parameters and the coefficients derived from them.
-      c.fits("mass_kg", "the mass m", p.mass_kg, "kg") &&
-      c.fits("mass_kg", "1/m", model.inv_mass, "1/kg") &&
-      c.resolved("mass_kg", "1/m", model.inv_mass, "1/kg") &&
-      c.fits("stiffness_n_per_m", "the stiffness k", p.stiffness_n_per_m, "N/m") &&
-      c.fits("stiffness_n_per_m", "k/m", model.stiffness_over_mass, "1/s^2") &&
-      c.resolved("stiffness_n_per_m", "k/m", model.stiffness_over_mass, "1/s^2") &&
-      c.fits("damping_ns_per_m", "the damping b", p.damping_ns_per_m, "N s/m") &&
-      c.fits("damping_ns_per_m", "b/m", model.damping_over_mass, "1/s") &&
-      c.resolved("damping_ns_per_m", "b/m", model.damping_over_mass, "1/s") &&
-      (!friction || (c.fits("kinetic_friction_n", "F_fk", p.kinetic_friction_n, "N") &&
-                     c.resolved("kinetic_friction_n", "F_fk", p.kinetic_friction_n, "N"))) &&
-      (!sticking || (c.fits("static_friction_n", "F_fs", p.static_friction_n, "N") &&
-                     c.resolved("static_friction_n", "F_fs", p.static_friction_n, "N"))) &&
-      (!rational ||
-       (c.fits("smoothing_constant_s_per_m", "c", p.smoothing_constant_s_per_m, "s/m") &&
-        c.resolved("smoothing_constant_s_per_m", "c", p.smoothing_constant_s_per_m, "s/m"))) &&
-      c.fits("dt_s", "1/dt", model.inv_dt, "1/s") && c.resolved("dt_s", "dt", p.dt_s, "s") &&
-      (tick_level < 0 || tick_level > kEventLevels ||
-       c.resolved("dt_s", "the event tick dt/2^level", model.block_s[tick_level], "s")) &&
-      // The whole-step map (the common path): every non-zero coefficient keeps its precision.
-      c.resolved("dt_s", "the step map coefficient xv (v_r -> x_r)", model.maps[0].xv, "s") &&
-      c.resolved("dt_s", "the step map coefficient vx (x_r -> v_r)", model.maps[0].vx, "1/s") &&
-      c.resolved("dt_s", "the step map coefficient gx0 (input at the start -> x_r)",
-                 model.maps[0].gx0, "s^2") &&
-      c.resolved("dt_s", "the step map coefficient gx1 (input at the end -> x_r)",
-                 model.maps[0].gx1, "s^2") &&
-      c.resolved("dt_s", "the step map coefficient gv0 (input at the start -> v_r)",
-                 model.maps[0].gv0, "s") &&
-      c.resolved("dt_s", "the step map coefficient gv1 (input at the end -> v_r)",
-                 model.maps[0].gv1, "s") &&
-      // What the step forms at the declared ranges.
-      c.fits("input_range_m_per_s2", "the input force m*a_u", p.mass_kg * a_range, "N") &&
-      c.fits("displacement_range_m", "the spring force k*x_r", p.stiffness_n_per_m * x_range,
-             "N") &&
-      c.fits("displacement_range_m", "the damper force b*v_r (v_r up to omega0*x + a/omega0)",
-             p.damping_ns_per_m * v_range, "N") &&
-      c.fits("input_range_m_per_s2", "the limit force m*a_u + k*x_r",
-             p.mass_kg * a_range + p.stiffness_n_per_m * x_range, "N") &&
-      c.fits("input_range_m_per_s2", "the seat acceleration (k x_r + b v_r + F_f)/m + a_u",
-             (p.stiffness_n_per_m * x_range + p.damping_ns_per_m * v_range + friction_max) *
-                     model.inv_mass +
-                 a_range,
-             "m/s^2") &&
-      (!rational ||
-       (c.fits("smoothing_constant_s_per_m", "c*v_r", p.smoothing_constant_s_per_m * v_range,
-               "1") &&
-        c.fits("smoothing_constant_s_per_m", "F_fk*c*v_r",
-               model.smoothing_scale_n * p.smoothing_constant_s_per_m * v_range, "N")));
-  (void)ok;  // r holds the verdict
+}  // namespace
+
+ConfigResult check_fixed_point_scene(const OscillatorParams& p, const DiscreteModel& model,
+                                     int integer_bits, int fraction_bits, int tick_level) noexcept {
+  ConfigResult r;
+  char format[16] = "Q";
+  format_name(integer_bits, fraction_bits, format);
+  Checker c{std::ldexp(1.0, integer_bits - kFixedPointHeadroomBits),
+            kFixedPointMinimumSteps * std::ldexp(1.0, -fraction_bits), format, r};
+  // Each check stops at the first failure; r then holds the verdict and its message.
+  (void)(offered(p, c) && coefficients_fit(p, model, tick_level, c) &&
+         intermediates_fit(p, model, c));
   return r;
 }
 

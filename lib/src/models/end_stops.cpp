@@ -8,8 +8,7 @@ namespace {
 constexpr double kMaxMagnitude = 1e9;  // the bound discretise() applies to every parameter
 
 ConfigResult refuse(Status status, const char* name, double value, const char* why) noexcept {
-  ConfigResult r;
-  r.status = status;
+  ConfigResult r = refusal(status);
   r.message.append(name).append(" = ").append(value).append(why);
   return r;
 }

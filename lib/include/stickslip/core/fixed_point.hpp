@@ -343,7 +343,7 @@ class FixedPoint {
   constexpr FixedPoint& operator-=(FixedPoint b) noexcept { return *this = *this - b; }
   constexpr FixedPoint& operator*=(FixedPoint b) noexcept { return *this = *this * b; }
 
-  // (FixedPoint32 spells these out too: the same set from an empty CRTP base made GCC's ARMv6-M
+  // (FixedPoint32 spells these out too: the same set from an empty CRTP base makes GCC's ARMv6-M
   // step 174 bytes larger, with a memset of the event search's locals.)
   friend constexpr bool operator==(FixedPoint a, FixedPoint b) noexcept { return a.raw_ == b.raw_; }
   friend constexpr bool operator!=(FixedPoint a, FixedPoint b) noexcept { return a.raw_ != b.raw_; }

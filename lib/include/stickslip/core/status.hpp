@@ -44,4 +44,12 @@ struct ConfigResult {
   bool ok() const noexcept { return status == Status::ok; }
 };
 
+// A refused configuration: `status` with an empty message, which the caller fills with the
+// parameter to change and the limit it broke. Every configure() refuses through this.
+inline ConfigResult refusal(Status status) noexcept {
+  ConfigResult result;
+  result.status = status;
+  return result;
+}
+
 }  // namespace stickslip

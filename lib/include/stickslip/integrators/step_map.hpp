@@ -29,4 +29,16 @@ struct StepMap {
   }
 };
 
+// One affine step with the generalised input g0 at its start and g1 at its end.
+// Summed as (state part) + (input part): the input part does not depend on the previous step, so
+// the loop-carried dependency through x and v is one multiply and two adds, not four.
+template <typename T>
+STICKSLIP_COMPACT_INLINE constexpr void apply_step_map(const StepMap<T>& m, T& x, T& v, T g0,
+                                                       T g1) noexcept {
+  const T x_next = (m.xx * x + m.xv * v) + (m.gx0 * g0 + m.gx1 * g1);
+  const T v_next = (m.vx * x + m.vv * v) + (m.gv0 * g0 + m.gv1 * g1);
+  x = x_next;
+  v = v_next;
+}
+
 }  // namespace stickslip

@@ -25,7 +25,9 @@
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/integrators/discretisation.hpp"
 #include "stickslip/integrators/step_map.hpp"
+// Oscillator: the scene's seat without stops, which users of the stops compare against.
 #include "stickslip/models/oscillator.hpp"
+#include "stickslip/models/step_common.hpp"
 
 namespace stickslip {
 
@@ -64,8 +66,7 @@ class EndStopOscillator {
     ConfigResult result = check_end_stops(seat, stops, free_model, contact_model);
     if (!result.ok()) return result;
     if (seat.model != Law::model || seat.integrator != Integrator::exact) {
-      result.status = Status::unsupported;
-      result.message.clear();
+      result = refusal(Status::unsupported);
       result.message.append("end stops run the '")
           .append(model_name(Law::model))
           .append("' model with the exact integrator; got '")
@@ -110,16 +111,14 @@ class EndStopOscillator {
       direction_ = T(1);  // no friction: "slipping" with zero force, never stuck
     }
     contacts_ = 0;
-    event_budget_exhausted_ = 0;
-    rejected_inputs_ = 0;
-    state_resets_ = 0;
+    counters_ = SafetyCounters{};
     acceleration_ = stuck() ? T(0) : seat_acceleration(x_, v_) - a_u0;
   }
 
   StepOutput<T> step(T a_u_next) noexcept {
-    if (!S::is_finite(a_u_next)) {
+    if (!S::is_finite(a_u_next)) {  // replaced by the previous sample, counted
       a_u_next = a_prev_;
-      ++rejected_inputs_;
+      ++counters_.rejected_inputs;
     }
     const Input in{a_prev_, a_u_next};
     StopContacts<T>& out = contacts_last_;
@@ -138,10 +137,8 @@ class EndStopOscillator {
       // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
       const T offset =
           inv_mass_ * (kinetic_n_ * direction_ - stop_stiffness_ * travel_ * T(contact_));
-      const StepMap<T>& m = maps_[contact_ != 0 ? 1 : 0][0];
-      const T g0 = -(in.a0 + offset), g1 = -(in.a1 + offset);
-      const T x = (m.xx * x_ + m.xv * v_) + (m.gx0 * g0 + m.gx1 * g1);
-      const T v = (m.vx * x_ + m.vv * v_) + (m.gv0 * g0 + m.gv1 * g1);
+      T x = x_, v = v_;
+      apply_step_map(maps_[contact_ != 0 ? 1 : 0][0], x, v, -(in.a0 + offset), -(in.a1 + offset));
       const T a_x = seat_acceleration(x, v);
       // v_r' = a_x - a_u: the relative acceleration at both ends, the start's kept from before.
       if (!event_between(x_, v_, acceleration_, x, v, a_x - in.a1)) {
@@ -154,12 +151,7 @@ class EndStopOscillator {
       }
     }
     events = search(in, stuck_ticks, out);
-    if (!S::is_finite(x_) || !S::is_finite(v_)) {  // never for an accepted scene; counted if so
-      x_ = v_ = T(0);
-      direction_ = kSticking ? T(0) : T(1);
-      contact_ = 0;
-      ++state_resets_;
-    }
+    guard_state();
     a_prev_ = a_u_next;
     out.contact = static_cast<std::int8_t>(contact_);
     const StepOutput<T> result = output(in.a1, stuck_ticks * tick_fraction_, events);
@@ -173,9 +165,9 @@ class EndStopOscillator {
   const StopContacts<T>& last_step_contacts() const noexcept { return contacts_last_; }
   bool stuck() const noexcept { return kSticking && direction_ == T(0); }
   std::uint64_t contacts() const noexcept { return contacts_; }
-  std::uint64_t event_budget_exhausted() const noexcept { return event_budget_exhausted_; }
-  std::uint64_t rejected_inputs() const noexcept { return rejected_inputs_; }
-  std::uint64_t state_resets() const noexcept { return state_resets_; }
+  std::uint64_t event_budget_exhausted() const noexcept { return counters_.event_budget_exhausted; }
+  std::uint64_t rejected_inputs() const noexcept { return counters_.rejected_inputs; }
+  std::uint64_t state_resets() const noexcept { return counters_.state_resets; }
   // The output at the current state with the last input (row 0 of a run, as Oscillator's).
   StepOutput<T> current() const noexcept { return output(a_prev_, stuck() ? T(1) : T(0), 0); }
   // Mechanical energy of the seat: kinetic, spring and stop (J).
@@ -187,10 +179,7 @@ class EndStopOscillator {
   }
 
  private:
-  struct Input {
-    T a0, a1;
-    T at(T phi) const noexcept { return (T(1) - phi) * a0 + phi * a1; }
-  };
+  using Input = StepInput<T>;
 
   int region(T x) const noexcept { return x > travel_ ? 1 : (x < -travel_ ? -1 : 0); }
   double penetration(double x) const noexcept {
@@ -217,13 +206,8 @@ class EndStopOscillator {
     for (int level = 0; level < kMapLevels && count > 0; ++level) {
       const unsigned block = kTicks >> level;
       while (count >= block) {
-        const T g0 = -(in.at(T(at) * tick_fraction_) + offset);
-        const T g1 = -(in.at(T(at + block) * tick_fraction_) + offset);
-        const StepMap<T>& m = maps[level];
-        const T xn = (m.xx * x + m.xv * v) + (m.gx0 * g0 + m.gx1 * g1);
-        const T vn = (m.vx * x + m.vv * v) + (m.gv0 * g0 + m.gv1 * g1);
-        x = xn;
-        v = vn;
+        apply_step_map(maps[level], x, v, -(in.at(T(at) * tick_fraction_) + offset),
+                       -(in.at(T(at + block) * tick_fraction_) + offset));
         at += block;
         count -= block;
       }
@@ -283,7 +267,7 @@ class EndStopOscillator {
     int events = 0;
     while (t < kTicks) {
       if (events >= kBudget) {
-        ++event_budget_exhausted_;
+        ++counters_.event_budget_exhausted;
         // Finish in the current mode without further events.
         if (direction_ != T(0))
           advance(x_, v_, contact_, direction_, t, kTicks - t, in);
@@ -292,88 +276,120 @@ class EndStopOscillator {
         return events;
       }
       if (kSticking && direction_ == T(0)) {
-        // Stuck from tick t: find where |F_L| first exceeds F_fs (F_L linear in time).
-        const T f0 = limit_force(x_, in.at(T(t) * tick_fraction_));
-        const T f1 = limit_force(x_, in.a1);
-        if (S::abs(f1) <= static_n_) {
-          stuck_ticks += T(kTicks - t);
-          v_ = T(0);
-          return events;
-        }
-        const T bound = f1 > T(0) ? static_n_ : -static_n_;
-        const T share = (bound - f0) / (f1 - f0);  // in [0, 1]: f0 holds, f1 does not
-        unsigned ticks = static_cast<unsigned>(S::to_double(share) * double(kTicks - t)) + 1u;
-        if (ticks > kTicks - t) ticks = kTicks - t;
-        stuck_ticks += T(ticks);
-        t += ticks;
-        direction_ = f1 > T(0) ? T(-1) : T(1);  // break-away against F_L
-        v_ = T(0);
+        if (!break_away(in, t, stuck_ticks)) return events;
         ++events;
         continue;
       }
-      // Moving: scan blocks of kScanBlock for the first one whose end no longer fits the mode.
-      T x = x_, v = v_;
-      unsigned end = t;
-      bool found = false;
-      while (end < kTicks) {
-        const unsigned next = (end / kScanBlock + 1) * kScanBlock;
-        T xn = x, vn = v;
-        advance(xn, vn, contact_, direction_, end, next - end, in);
-        if (mode_ends(xn, vn)) {
-          // Bisect (end, next] for the first tick whose state leaves the mode.
-          unsigned lo = end, hi = next;
-          T x_lo = x, v_lo = v;
-          while (hi - lo > 1) {
-            const unsigned mid = lo + (hi - lo) / 2;
-            T xm = x_lo, vm = v_lo;
-            advance(xm, vm, contact_, direction_, lo, mid - lo, in);
-            if (mode_ends(xm, vm)) {
-              hi = mid;
-            } else {
-              lo = mid;
-              x_lo = xm;
-              v_lo = vm;
-            }
-          }
-          advance(x_lo, v_lo, contact_, direction_, lo, hi - lo, in);
-          x = x_lo;
-          v = v_lo;
-          end = hi;
-          found = true;
-          break;
-        }
-        x = xn;
-        v = vn;
-        end = next;
-      }
-      x_ = x;
-      v_ = v;
-      t = end;
-      if (!found) return events;
+      if (!move_to_mode_end(in, t)) return events;
       ++events;
-      const int now = region(x_);
-      if (now != contact_) {
-        if (now != 0 && contact_ == 0) {
-          ++contacts_;
-          if (out.contact_events == 0) out.first_contact_s = T(t) * tick_fraction_ * dt_s_;
-          ++out.contact_events;
-        }
-        contact_ = now;
+      enter_mode_at(in, t, out);
+    }
+    return events;
+  }
+
+  // Stuck from tick t: finds where |F_L| first exceeds F_fs (F_L is linear in time) and breaks
+  // away there, against F_L (true); false, with the rest of the step stuck, when it holds.
+  bool break_away(const Input& in, unsigned& t, T& stuck_ticks) noexcept {
+    const T f0 = limit_force(x_, in.at(T(t) * tick_fraction_));
+    const T f1 = limit_force(x_, in.a1);
+    if (S::abs(f1) <= static_n_) {
+      stuck_ticks += T(kTicks - t);
+      v_ = T(0);
+      return false;
+    }
+    const T bound = f1 > T(0) ? static_n_ : -static_n_;
+    const T share = (bound - f0) / (f1 - f0);  // in [0, 1]: f0 holds, f1 does not
+    unsigned ticks = static_cast<unsigned>(S::to_double(share) * double(kTicks - t)) + 1u;
+    if (ticks > kTicks - t) ticks = kTicks - t;
+    stuck_ticks += T(ticks);
+    t += ticks;
+    direction_ = f1 > T(0) ? T(-1) : T(1);
+    v_ = T(0);
+    return true;
+  }
+
+  // Moving from tick t: scans blocks of kScanBlock for the first one whose end no longer fits the
+  // mode, then bisects it down to the first tick that leaves the mode. Advances the state and t to
+  // the end of that tick (true), or to the end of the step when the mode holds throughout (false).
+  bool move_to_mode_end(const Input& in, unsigned& t) noexcept {
+    T x = x_, v = v_;
+    unsigned end = t;
+    bool found = false;
+    while (end < kTicks) {
+      const unsigned next = (end / kScanBlock + 1) * kScanBlock;
+      T xn = x, vn = v;
+      advance(xn, vn, contact_, direction_, end, next - end, in);
+      if (mode_ends(xn, vn)) {
+        end = first_tick_leaving_mode(in, end, next, x, v);
+        found = true;
+        break;
       }
-      if constexpr (kSticking) {
-        if (v_ * direction_ <= T(0)) {
-          // v_r reached 0: stick if friction can hold the seat, else reverse.
-          const T f = limit_force(x_, in.at(T(t) * tick_fraction_));
-          v_ = T(0);
-          if (S::abs(f) <= static_n_) {
-            direction_ = T(0);
-          } else {
-            direction_ = f > T(0) ? T(-1) : T(1);
-          }
+      x = xn;
+      v = vn;
+      end = next;
+    }
+    x_ = x;
+    v_ = v;
+    t = end;
+    return found;
+  }
+
+  // Bisects (lo, hi], where the state (x, v) at lo fits the mode and the one at hi does not, for
+  // the first tick whose state leaves the mode; returns it, with (x, v) advanced to it.
+  unsigned first_tick_leaving_mode(const Input& in, unsigned lo, unsigned hi, T& x,
+                                   T& v) const noexcept {
+    T x_lo = x, v_lo = v;
+    while (hi - lo > 1) {
+      const unsigned mid = lo + (hi - lo) / 2;
+      T xm = x_lo, vm = v_lo;
+      advance(xm, vm, contact_, direction_, lo, mid - lo, in);
+      if (mode_ends(xm, vm)) {
+        hi = mid;
+      } else {
+        lo = mid;
+        x_lo = xm;
+        v_lo = vm;
+      }
+    }
+    advance(x_lo, v_lo, contact_, direction_, lo, hi - lo, in);
+    x = x_lo;
+    v = v_lo;
+    return hi;
+  }
+
+  // At tick t the mode ended: a contact begins or ends, and v_r reaching 0 sticks the seat if
+  // friction can hold it, else reverses it.
+  void enter_mode_at(const Input& in, unsigned t, StopContacts<T>& out) noexcept {
+    const int now = region(x_);
+    if (now != contact_) {
+      if (now != 0 && contact_ == 0) {
+        ++contacts_;
+        if (out.contact_events == 0) out.first_contact_s = T(t) * tick_fraction_ * dt_s_;
+        ++out.contact_events;
+      }
+      contact_ = now;
+    }
+    if constexpr (kSticking) {
+      if (v_ * direction_ <= T(0)) {
+        const T f = limit_force(x_, in.at(T(t) * tick_fraction_));
+        v_ = T(0);
+        if (S::abs(f) <= static_n_) {
+          direction_ = T(0);
+        } else {
+          direction_ = f > T(0) ? T(-1) : T(1);
         }
       }
     }
-    return events;
+  }
+
+  // A running model never emits NaN/Inf: a non-finite state (never for an accepted scene)
+  // restarts from rest, counted.
+  void guard_state() noexcept {
+    if (S::is_finite(x_) && S::is_finite(v_)) return;
+    x_ = v_ = T(0);
+    direction_ = kSticking ? T(0) : T(1);
+    contact_ = 0;
+    ++counters_.state_resets;
   }
 
   StepOutput<T> output(T a_u, T stuck_fraction, int events) const noexcept {
@@ -407,9 +423,7 @@ class EndStopOscillator {
   int contact_ = 0;
   StopContacts<T> contacts_last_{};
   std::uint64_t contacts_ = 0;
-  std::uint64_t event_budget_exhausted_ = 0;
-  std::uint64_t rejected_inputs_ = 0;
-  std::uint64_t state_resets_ = 0;
+  SafetyCounters counters_{};
 };
 
 }  // namespace stickslip

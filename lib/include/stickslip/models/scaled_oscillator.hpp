@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "stickslip/core/fixed_point.hpp"
 #include "stickslip/core/params.hpp"
 #include "stickslip/core/scalar.hpp"
 #include "stickslip/core/status.hpp"
@@ -151,8 +152,7 @@ class ScaledOscillator {
     if (!result.ok()) return result;
     units_ = choose_scene_units(si, std::ldexp(1.0, T::kIntegerBits - kFixedPointHeadroomBits));
     if (units_.length_m == 0.0) {
-      result.status = Status::out_of_range;
-      result.message.clear();
+      result = refusal(Status::out_of_range);
       result.message.append("displacement_range_m: the ranges give no length unit");
       return result;
     }

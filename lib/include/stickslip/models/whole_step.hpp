@@ -9,6 +9,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "stickslip/core/scalar.hpp"
 #include "stickslip/integrators/step_map.hpp"
 
 namespace stickslip {
@@ -40,18 +41,6 @@ inline bool finite_quietly(T x) noexcept {
 template <typename T>
 constexpr T seat_acceleration(T k_over_m, T b_over_m, T inv_mass, T x, T v, T force_n) noexcept {
   return -(k_over_m * x + b_over_m * v + inv_mass * force_n);
-}
-
-// One affine step (see step_map.hpp) with the generalised input g0 at its start and g1 at its end.
-// Summed as (state part) + (input part): the input part does not depend on the previous step, so
-// the loop-carried dependency through x and v is one multiply and two adds, not four.
-template <typename T>
-STICKSLIP_COMPACT_INLINE constexpr void apply_step_map(const StepMap<T>& m, T& x, T& v, T g0,
-                                                       T g1) noexcept {
-  const T x_next = (m.xx * x + m.xv * v) + (m.gx0 * g0 + m.gx1 * g1);
-  const T v_next = (m.vx * x + m.vv * v) + (m.gv0 * g0 + m.gv1 * g1);
-  x = x_next;
-  v = v_next;
 }
 
 template <typename T>

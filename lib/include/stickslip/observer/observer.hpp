@@ -72,8 +72,7 @@ class Observer {
     if (!result.ok()) return result;
     const double dt = params.model.dt_s;
     const auto refuse = [&result](Status status, const char* name, double value, const char* why) {
-      result.status = status;
-      result.message.clear();
+      result = refusal(status);
       result.message.append(name).append(" = ").append(value).append(why);
       return result;
     };

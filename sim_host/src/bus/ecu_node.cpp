@@ -74,14 +74,7 @@ class SeatModelFor final : public SeatModel {
 
   void summarise(SimulationSummary& summary) const override {
     summarise_run(summary, statistics_, observer_.model(), events_);
-    const RideComfort<T>& comfort = observer_.comfort();
-    summary.comfort = comfort.samples() > 0;
-    summary.floor_weighted_rms = comfort.floor_weighted_rms();
-    summary.seat_weighted_rms = comfort.seat_weighted_rms();
-    summary.seat_ratio = comfort.seat_ratio();
-    summary.seat_vdv = comfort.seat_vdv();
-    summary.seat_mtvv = comfort.seat_mtvv();
-    summary.seat_crest_factor = comfort.seat_crest_factor();
+    summarise_comfort(summary, observer_.comfort());
     const ObserverSummary o = observer_.summary();
     summary.observed = true;
     summary.window_s = o.window_s;

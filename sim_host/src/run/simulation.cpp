@@ -307,13 +307,8 @@ void add_ride_comfort(SimulationSummary& summary, const std::vector<double>& a_u
   if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
   const std::size_t count = std::min(a_u.size(), a_x.size());
   for (std::size_t n = 0; n < count; ++n) comfort.add_sample(a_u[n], static_cast<double>(a_x[n]));
+  summarise_comfort(summary, comfort);
   summary.comfort = true;
-  summary.floor_weighted_rms = comfort.floor_weighted_rms();
-  summary.seat_weighted_rms = comfort.seat_weighted_rms();
-  summary.seat_ratio = comfort.seat_ratio();
-  summary.seat_vdv = comfort.seat_vdv();
-  summary.seat_mtvv = comfort.seat_mtvv();
-  summary.seat_crest_factor = comfort.seat_crest_factor();
 }
 
 template void add_ride_comfort<double>(SimulationSummary&, const std::vector<double>&,

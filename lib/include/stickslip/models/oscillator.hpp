@@ -255,12 +255,7 @@ class Oscillator {
     return {x_, v_, a_prev_, direction_, held_force_, reported_force_};
   }
   void restore(const State& s) noexcept {
-    x_ = s.x_r_m;
-    v_ = s.v_r_m_per_s;
-    a_prev_ = s.a_u_previous;
-    direction_ = s.direction;
-    held_force_ = s.held_force_n;
-    reported_force_ = s.reported_force_n;
+    restore(s, slip_a_x_);
     slip_a_x_ = current().a_x_m_per_s2;
   }
 

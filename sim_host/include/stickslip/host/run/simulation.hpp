@@ -91,6 +91,19 @@ void summarise_run(SimulationSummary& summary, const Statistics& statistics, con
   summary.state_resets = model.state_resets();
 }
 
+// Copies a ride-comfort accumulator's figures into the summary (simulate's whole-trace pass and
+// the ECU node's running observer report the same keys).
+template <typename Comfort>
+void summarise_comfort(SimulationSummary& summary, const Comfort& comfort) {
+  summary.comfort = comfort.samples() > 0;
+  summary.floor_weighted_rms = comfort.floor_weighted_rms();
+  summary.seat_weighted_rms = comfort.seat_weighted_rms();
+  summary.seat_ratio = comfort.seat_ratio();
+  summary.seat_vdv = comfort.seat_vdv();
+  summary.seat_mtvv = comfort.seat_mtvv();
+  summary.seat_crest_factor = comfort.seat_crest_factor();
+}
+
 // Fills the summary's ride-comfort figures from a finished run's input and seat acceleration
 // (RideComfort<double>, Wk at 1/dt_s); throws ConfigurationError if the weighting refuses dt_s.
 template <typename T>

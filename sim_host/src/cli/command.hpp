@@ -26,6 +26,18 @@ class Command {
 std::string join_choices(const std::vector<std::string>& choices, const char* separator,
                          const char* last_separator);
 
+// The name nearest to a mistyped one (edit distance), if near enough to be what was meant; empty
+// otherwise.
+std::string closest_name(const std::string& typed, const std::vector<std::string>& names);
+
+// --bus: a name one typo from "loopback" that is no interface of this machine is refused with the
+// suggestion (opening it would only say "unsupported").
+void check_bus_name(const char* option, const std::string& bus);
+
+// Checks a count option at parse time: "must be a whole number >= 1" (CLI::PositiveNumber would
+// print the smallest positive double as its bound).
+CLI::Validator at_least_one();
+
 // Whether the user gave the option on this subcommand (not merely its default).
 bool given(const CLI::App& command, const char* option);
 

@@ -42,8 +42,9 @@ class ReplayCommand : public Command {
     model_.add_to(replay, request_.setup, kNodeSceneHelp);
   }
 
-  int run(CLI::App& replay, std::ostream& out, std::ostream&) override {
+  int run(CLI::App& replay, std::ostream& out, std::ostream& err) override {
     ReplayRequest request = request_;
+    check_bus_name("--bus", request_.bus);
     const ResolvedModel model = model_.resolve(replay, request.setup);
     request.scalar = model.scalar;
     if (model.scene_dt_s() > 0.0 && !given(replay, "--dt")) request.log_dt_s = model.scene_dt_s();
@@ -51,6 +52,12 @@ class ReplayCommand : public Command {
       request.realtime = true;
     } else if (rate_ != "max") {
       throw UsageError("--rate: unknown rate '" + rate_ + "' (expected max or realtime)");
+    }
+    if (request.realtime) {
+      err << fmt::format(
+          "replay: streaming {} over {} in real time: as long as the recording lasts "
+          "(--rate max does not wait)\n",
+          request.input_path, request.bus);
     }
     const ReplayResult result = replay_file(request);
     out << fmt::format(
@@ -72,7 +79,9 @@ class ReplayCommand : public Command {
 class EcuCommand : public Command {
  public:
   void add_options(CLI::App& ecu) override {
-    ecu.add_option("--bus", request_.bus, "loopback | a SocketCAN interface such as vcan0")
+    ecu.add_option("--bus", request_.bus,
+                   "a SocketCAN interface such as vcan0 (the loopback bus has no sender outside "
+                   "this process: replay runs the node on it)")
         ->required();
     ecu.add_option(
            "--frames", request_.max_frames,
@@ -91,14 +100,25 @@ class EcuCommand : public Command {
     model_.add_to(ecu, request_.setup, kNodeSceneHelp);
   }
 
-  int run(CLI::App& ecu, std::ostream& out, std::ostream&) override {
+  int run(CLI::App& ecu, std::ostream& out, std::ostream& err) override {
+    check_bus_name("--bus", request_.bus);
     EcuRequest request = request_;
     const ResolvedModel model = model_.resolve(ecu, request.setup);  // keeps --dt's value
+    if (request_.bus == "loopback") {
+      // Nothing else can send on a bus that lives in this process: the node would wait forever.
+      throw UsageError(
+          "--bus loopback: ecu would wait forever, as no other program can send on the "
+          "in-process loopback bus; use replay --bus loopback, or ecu --bus vcan0 with play or "
+          "canplayer sending");
+    }
     request.scalar = model.scalar;
     if (model.scene_dt_s() > 0.0 && !given(ecu, "--dt"))
       request.setup.params.dt_s = model.scene_dt_s();
     const StopOnSignals signals;
     request.stop = &stop_requested;
+    err << fmt::format(
+        "ecu: waiting for SeatInput frames on {} until {}SIGINT or SIGTERM\n", request.bus,
+        request.max_frames > 0 ? fmt::format("{} frames, ", request.max_frames) : std::string());
     const EcuResult result = run_ecu(request);
     out << fault_counters_text(result.faults) << "\n";
     out << result.json << "\n";

@@ -45,10 +45,13 @@ class PlayCommand : public Command {
         ->capture_default_str();
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+  int run(CLI::App&, std::ostream& out, std::ostream& err) override {
     PlayRequest request = request_;
+    check_bus_name("--bus", request_.bus);
     const StopOnSignals signals;
     request.stop = &stop_requested;
+    err << fmt::format("play: sending {} on {} at {}x real time until its end, SIGINT or SIGTERM\n",
+                       request.input_path, request.bus, request.speed);
     const PlayResult result = play_file(request);
     out << fmt::format(
         "played {} on {} at {}x: {} of {} frames sent, {} not sent ({} interface "

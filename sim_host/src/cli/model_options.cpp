@@ -160,9 +160,11 @@ ResolvedModel ModelOptions::resolve(const CLI::App& command, SimulationSetup& se
     throw UsageError("--smoothing: unknown form '" + smoothing_ +
                      "' (expected atan, tanh, erf or rational)");
   }
+  bool integrator_defaulted = false;
   if (integrator_.empty()) {
     // The scene's integrator stands while the scene's model does; else the model's default.
-    if (!scene || model_given) p.integrator = default_integrator(p.model);
+    integrator_defaulted = !scene || model_given;
+    if (integrator_defaulted) p.integrator = default_integrator(p.model);
   } else if (choices_.reference_integrator && integrator_ == "reference") {
     setup.reference = true;  // host-only solver; the core's integrator is not used
     p.integrator = default_integrator(p.model);
@@ -173,6 +175,17 @@ ResolvedModel ModelOptions::resolve(const CLI::App& command, SimulationSetup& se
   if (!parse_scalar(scalar_, resolved.scalar)) {
     throw UsageError("--scalar: unknown scalar '" + scalar_ + "' (expected " +
                      join_choices(scalar_choices(choices_), ", ", " or ") + ")");
+  }
+  const bool fixed_point =
+      resolved.scalar == ScalarType::fixed || resolved.scalar == ScalarType::fixed32;
+  if (fixed_point && integrator_defaulted && p.integrator == Integrator::rk4 &&
+      p.model == FrictionModel::smooth && p.smoothing == SmoothingLaw::rational) {
+    // Only the integrator stands in the way, and it came from the model's default: naming
+    // --integrator alone would blame a flag never given.
+    throw UsageError("--scalar " + scalar_ + ": the default integrator of --model " +
+                     model_name(p.model) +
+                     " is rk4, which fixed point does not offer; give --integrator exact, "
+                     "symplectic or euler");
   }
   if (choices_.bus_node) {
     const std::string refusal = ecu_node_scalar_refusal(resolved.scalar);

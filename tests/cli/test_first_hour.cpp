@@ -211,3 +211,21 @@ TEST(FirstHour, HarmonicBalanceWithoutASolutionWritesNanNotAPerfectMatch) {
   }
   CHECK(invalid > 0);
 }
+
+TEST(FirstHour, CommandsThatWaitSayWhatTheyWaitFor) {
+  const CliRun replay =
+      run_stickslip({"replay", "--input", in, "--output", dir.file("r.csv"), "--model",
+                     "stick-slip", "--bus", "loopback", "--rate", "realtime"});
+  LONGS_EQUAL(0, replay.status);
+  STRCMP_CONTAINS(("replay: streaming " + in + " over loopback in real time").c_str(),
+                  replay.err.c_str());
+  const CliRun play = run_stickslip({"play", "--input", in, "--bus", "loopback"});
+  LONGS_EQUAL(0, play.status);
+  STRCMP_CONTAINS(("play: sending " + in + " on loopback at 1x real time").c_str(),
+                  play.err.c_str());
+  // As fast as possible, nothing waits: nothing to say.
+  const CliRun fast = run_stickslip({"replay", "--input", in, "--output", dir.file("f.csv"),
+                                     "--model", "stick-slip", "--bus", "loopback"});
+  LONGS_EQUAL(0, fast.status);
+  STRCMP_EQUAL("", fast.err.c_str());
+}

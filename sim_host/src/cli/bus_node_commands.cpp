@@ -87,6 +87,9 @@ class EcuCommand : public Command {
            "--frames", request_.max_frames,
            "stop after this many frames for the node (all but other nodes' outputs; 0: never)")
         ->capture_default_str();
+    ecu.add_option("--timeout", timeout_s_, "stop after this many seconds (0: never)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     ecu.add_option("--dt", request_.setup.params.dt_s, "sample interval of the stream, s")
         ->capture_default_str();
     ecu.add_option("--output", request_.output_path, "write the node's samples as simulate does");
@@ -114,11 +117,12 @@ class EcuCommand : public Command {
     request.scalar = model.scalar;
     if (model.scene_dt_s() > 0.0 && !given(ecu, "--dt"))
       request.setup.params.dt_s = model.scene_dt_s();
-    const StopOnSignals signals;
+    const StopOnSignals signals(timeout_s_);
     request.stop = &stop_requested;
     err << fmt::format(
-        "ecu: waiting for SeatInput frames on {} until {}SIGINT or SIGTERM\n", request.bus,
-        request.max_frames > 0 ? fmt::format("{} frames, ", request.max_frames) : std::string());
+        "ecu: waiting for SeatInput frames on {} until {}{}SIGINT or SIGTERM\n", request.bus,
+        request.max_frames > 0 ? fmt::format("{} frames, ", request.max_frames) : std::string(),
+        timeout_s_ > 0.0 ? fmt::format("{} s, ", timeout_s_) : std::string());
     const EcuResult result = run_ecu(request);
     out << fault_counters_text(result.faults) << "\n";
     out << result.json << "\n";
@@ -127,6 +131,7 @@ class EcuCommand : public Command {
 
  private:
   EcuRequest request_;
+  double timeout_s_ = 0.0;
   ModelOptions model_{kBusNodeChoices};
 };
 

@@ -46,7 +46,9 @@ const struct Subcommand {
      "Stream a recording (CSV, or a candump .log) as CAN frames over a bus to the ECU node; write "
      "its samples as simulate does and print the statistics and the fault counters",
      make_replay_command},
-    {"ecu", "The ECU node alone on a bus until SIGINT/SIGTERM or --frames; prints its counters",
+    {"ecu",
+     "The ECU node alone on a bus until --frames, --timeout, SIGINT or SIGTERM; prints its "
+     "counters",
      make_ecu_command},
     {"record", "Write a CSV recording as a candump log of SeatInput frames (canplayer replays it)",
      make_record_command},

@@ -1,5 +1,6 @@
 #include "stop_signals.hpp"
 
+#include <sys/time.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -58,7 +59,7 @@ extern "C" void clean_up_and_exit(int signal_number) {
 
 }  // namespace
 
-StopOnSignals::StopOnSignals() {
+StopOnSignals::StopOnSignals(double timeout_s) {
   stop_requested = 0;
   struct sigaction action = {};
   action.sa_handler = request_stop;
@@ -66,9 +67,24 @@ StopOnSignals::StopOnSignals() {
   action.sa_flags = 0;
   sigaction(SIGINT, &action, &old_int_);
   sigaction(SIGTERM, &action, &old_term_);
+  if (timeout_s > 0.0) {
+    sigaction(SIGALRM, &action, &old_alarm_);
+    struct itimerval timer = {};
+    timer.it_value.tv_sec = static_cast<time_t>(timeout_s);
+    timer.it_value.tv_usec =
+        static_cast<suseconds_t>((timeout_s - static_cast<double>(timer.it_value.tv_sec)) * 1e6);
+    if (timer.it_value.tv_sec == 0 && timer.it_value.tv_usec == 0) timer.it_value.tv_usec = 1;
+    setitimer(ITIMER_REAL, &timer, nullptr);
+    timer_ = true;
+  }
 }
 
 StopOnSignals::~StopOnSignals() {
+  if (timer_) {
+    const struct itimerval off = {};
+    setitimer(ITIMER_REAL, &off, nullptr);
+    sigaction(SIGALRM, &old_alarm_, nullptr);
+  }
   sigaction(SIGINT, &old_int_, nullptr);
   sigaction(SIGTERM, &old_term_, nullptr);
 }

@@ -18,13 +18,15 @@ extern volatile std::sig_atomic_t stop_requested;
 // sleep returns at once); the previous handlers come back with its end.
 class StopOnSignals {
  public:
-  StopOnSignals();
+  // timeout_s > 0: SIGALRM after that long sets stop_requested too (ecu --timeout).
+  explicit StopOnSignals(double timeout_s = 0.0);
   ~StopOnSignals();
   StopOnSignals(const StopOnSignals&) = delete;
   StopOnSignals& operator=(const StopOnSignals&) = delete;
 
  private:
-  struct sigaction old_int_ = {}, old_term_ = {};
+  struct sigaction old_int_ = {}, old_term_ = {}, old_alarm_ = {};
+  bool timer_ = false;
 };
 
 // What an interrupted command has done so far, for the one line the handler prints ("N of M

@@ -229,3 +229,16 @@ TEST(FirstHour, CommandsThatWaitSayWhatTheyWaitFor) {
   LONGS_EQUAL(0, fast.status);
   STRCMP_EQUAL("", fast.err.c_str());
 }
+
+TEST(FirstHour, RealtimeReplayWithProgressReportsFramesOnStderr) {
+  const std::string three_s = dir.file("three_s.csv");
+  LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "lorry", "--rms", "0.35", "--duration", "3",
+                                "--dt", "0.001", "--output", three_s})
+                     .status);
+  const CliRun run =
+      run_stickslip({"replay", "--input", three_s, "--output", dir.file("r.csv"), "--model",
+                     "stick-slip", "--bus", "loopback", "--rate", "realtime", "--progress"});
+  LONGS_EQUAL(0, run.status);
+  STRCMP_CONTAINS("/3001 frames (", run.err.c_str());
+  CHECK(run.err.find("replay: ") != std::string::npos);
+}

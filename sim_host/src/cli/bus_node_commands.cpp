@@ -39,6 +39,8 @@ class ReplayCommand : public Command {
     replay.add_option("--dt", request_.log_dt_s, "sample interval of a candump-log input, s")
         ->capture_default_str();
     add_checker_options(replay, request_.checker);
+    replay.add_flag("--progress", progress_,
+                    "frames sent on stderr once a second (default: on a terminal)");
     model_.add_to(replay, request_.setup, kNodeSceneHelp);
   }
 
@@ -53,12 +55,12 @@ class ReplayCommand : public Command {
     } else if (rate_ != "max") {
       throw UsageError("--rate: unknown rate '" + rate_ + "' (expected max or realtime)");
     }
-    if (request.realtime) {
-      err << fmt::format(
-          "replay: streaming {} over {} in real time: as long as the recording lasts "
-          "(--rate max does not wait)\n",
-          request.input_path, request.bus);
-    }
+    request.progress = make_frame_progress(
+        err, "replay", progress_ || stderr_is_terminal(err),
+        request.realtime ? fmt::format("replay: streaming {} over {} in real time: as long as the "
+                                       "recording lasts (--rate max does not wait)",
+                                       request.input_path, request.bus)
+                         : std::string());
     const ReplayResult result = replay_file(request);
     out << fmt::format(
         "replayed {} over {}: {} frames sent, {} samples, {} output frames ({} seen "
@@ -73,6 +75,7 @@ class ReplayCommand : public Command {
  private:
   ReplayRequest request_;
   std::string rate_ = "max";
+  bool progress_ = false;
   ModelOptions model_{kBusNodeChoices};
 };
 
@@ -100,6 +103,8 @@ class EcuCommand : public Command {
         "--sample-index", request_.sample_index_path,
         "write n,sample,held per row: the sender's sample number of each row, 1 if held");
     add_checker_options(ecu, request_.checker);
+    ecu.add_flag("--progress", progress_,
+                 "frames taken on stderr once a second (default: on a terminal)");
     model_.add_to(ecu, request_.setup, kNodeSceneHelp);
   }
 
@@ -119,10 +124,12 @@ class EcuCommand : public Command {
       request.setup.params.dt_s = model.scene_dt_s();
     const StopOnSignals signals(timeout_s_);
     request.stop = &stop_requested;
-    err << fmt::format(
-        "ecu: waiting for SeatInput frames on {} until {}{}SIGINT or SIGTERM\n", request.bus,
-        request.max_frames > 0 ? fmt::format("{} frames, ", request.max_frames) : std::string(),
-        timeout_s_ > 0.0 ? fmt::format("{} s, ", timeout_s_) : std::string());
+    request.progress = make_frame_progress(
+        err, "ecu", progress_ || stderr_is_terminal(err),
+        fmt::format(
+            "ecu: waiting for SeatInput frames on {} until {}{}SIGINT or SIGTERM", request.bus,
+            request.max_frames > 0 ? fmt::format("{} frames, ", request.max_frames) : std::string(),
+            timeout_s_ > 0.0 ? fmt::format("{} s, ", timeout_s_) : std::string()));
     const EcuResult result = run_ecu(request);
     out << fault_counters_text(result.faults) << "\n";
     out << result.json << "\n";
@@ -132,6 +139,7 @@ class EcuCommand : public Command {
  private:
   EcuRequest request_;
   double timeout_s_ = 0.0;
+  bool progress_ = false;
   ModelOptions model_{kBusNodeChoices};
 };
 

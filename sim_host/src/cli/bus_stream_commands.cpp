@@ -43,6 +43,8 @@ class PlayCommand : public Command {
     play.add_option("--speed", request_.speed, "times real time")->capture_default_str();
     play.add_option("--dt", request_.log_dt_s, "sample interval of a candump-log input, s")
         ->capture_default_str();
+    play.add_flag("--progress", progress_,
+                  "frames sent on stderr once a second (default: on a terminal)");
   }
 
   int run(CLI::App&, std::ostream& out, std::ostream& err) override {
@@ -50,8 +52,10 @@ class PlayCommand : public Command {
     check_bus_name("--bus", request_.bus);
     const StopOnSignals signals;
     request.stop = &stop_requested;
-    err << fmt::format("play: sending {} on {} at {}x real time until its end, SIGINT or SIGTERM\n",
-                       request.input_path, request.bus, request.speed);
+    request.progress = make_frame_progress(
+        err, "play", progress_ || stderr_is_terminal(err),
+        fmt::format("play: sending {} on {} at {}x real time until its end, SIGINT or SIGTERM",
+                    request.input_path, request.bus, request.speed));
     const PlayResult result = play_file(request);
     out << fmt::format(
         "played {} on {} at {}x: {} of {} frames sent, {} not sent ({} interface "
@@ -64,6 +68,7 @@ class PlayCommand : public Command {
 
  private:
   PlayRequest request_;
+  bool progress_ = false;
 };
 
 }  // namespace

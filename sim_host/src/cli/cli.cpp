@@ -1,8 +1,10 @@
 #include "stickslip/host/cli/cli.hpp"
 
 #include <net/if.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -283,6 +285,34 @@ void check_bus_name(const char* option, const std::string& bus) {
   throw UsageError(std::string(option) + " " + bus +
                    ": no such bus (did you mean loopback? otherwise a CAN interface of this "
                    "machine, such as vcan0)");
+}
+
+bool stderr_is_terminal(const std::ostream& err) {
+  return &err == &std::cerr && ::isatty(2) == 1;
+}
+
+std::function<void(std::uint64_t, std::uint64_t)> make_frame_progress(std::ostream& err,
+                                                                      const char* what,
+                                                                      bool enabled,
+                                                                      std::string waiting) {
+  if (!enabled && waiting.empty()) return nullptr;
+  using Clock = std::chrono::steady_clock;
+  auto next = std::make_shared<Clock::time_point>(Clock::now() + std::chrono::seconds(2));
+  auto calls = std::make_shared<std::uint64_t>(0);
+  return [&err, what, enabled, waiting, next, calls](std::uint64_t done, std::uint64_t total) {
+    if ((*calls)++ == 0 && !waiting.empty()) err << waiting << "\n" << std::flush;
+    // The clock only every 256 frames: a fast replay calls this a million times a second.
+    if (!enabled || (*calls & 0xFF) != 0) return;
+    const Clock::time_point now = Clock::now();
+    if (now < *next) return;
+    *next = now + std::chrono::seconds(1);
+    if (total > 0) {
+      err << what << ": " << done << "/" << total << " frames (" << 100 * done / total << " %)\n";
+    } else {
+      err << what << ": " << done << " frames\n";
+    }
+    err.flush();
+  };
 }
 
 CLI::Validator at_least_one() {

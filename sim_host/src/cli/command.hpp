@@ -6,6 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <string>
@@ -33,6 +35,19 @@ std::string closest_name(const std::string& typed, const std::vector<std::string
 // --bus: a name one typo from "loopback" that is no interface of this machine is refused with the
 // suggestion (opening it would only say "unsupported").
 void check_bus_name(const char* option, const std::string& bus);
+
+// Whether `err` is the process's stderr and that is a terminal.
+bool stderr_is_terminal(const std::ostream& err);
+
+// Progress of a command that may run for long (replay, play, ecu), called after every frame:
+// `waiting` (what the command now waits for) once, at the first frame - so that an error before
+// it, such as a bus that cannot be opened, stays the only line - then, when `enabled` (a
+// terminal, or --progress), "WHAT: done/total frames" first after 2 s and at most once a second.
+// total 0: open-ended, the count alone.
+std::function<void(std::uint64_t, std::uint64_t)> make_frame_progress(std::ostream& err,
+                                                                      const char* what,
+                                                                      bool enabled,
+                                                                      std::string waiting);
 
 // Checks a count option at parse time: "must be a whole number >= 1" (CLI::PositiveNumber would
 // print the smallest positive double as its bound).

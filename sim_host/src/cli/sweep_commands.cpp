@@ -42,10 +42,6 @@ void parse_shard(const std::string& text, SweepRequest& request) {
   request.shard_count = count;
 }
 
-bool stderr_is_terminal(const std::ostream& err) {
-  return &err == &std::cerr && ::isatty(2) == 1;
-}
-
 class SweepCommand : public Command {
  public:
   void add_options(CLI::App& sweep) override {

@@ -242,3 +242,11 @@ TEST(FirstHour, RealtimeReplayWithProgressReportsFramesOnStderr) {
   STRCMP_CONTAINS("/3001 frames (", run.err.c_str());
   CHECK(run.err.find("replay: ") != std::string::npos);
 }
+
+TEST(FirstHour, MistypedChoiceIsRefusedWithTheListBeforeAnyFileIsRead) {
+  check_one_line(run_stickslip({"simulate", "--input", in, "--output", dir.file("o.csv"), "--scene",
+                                dir.file("missing.toml"), "--model", "signun"}),
+                 2,
+                 "--model: unknown model 'signun' (expected linear, signum, smooth, stick-slip or "
+                 "stribeck; did you mean signum?)");
+}

@@ -107,7 +107,7 @@ TEST(SimulateErrors, UnknownFlagModelIntegratorScalarOrSmoothing) {
                  2);
   expect_refused({"--input", in, "--model", "signum", "--integrator", "rk45"},
                  "--integrator: unknown integrator 'rk45' (expected euler, symplectic, rk4, exact "
-                 "or reference)",
+                 "or reference; did you mean rk4?)",
                  2);
   expect_refused({"--input", in, "--model", "signum", "--scalar", "half"},
                  "--scalar: unknown scalar 'half' (expected double, float, fixed or fixed32)", 2);

@@ -279,6 +279,11 @@ std::string closest_name(const std::string& typed, const std::vector<std::string
   return best;
 }
 
+std::string did_you_mean(const std::string& typed, const std::vector<std::string>& names) {
+  const std::string closest = closest_name(typed, names);
+  return closest.empty() ? std::string() : "; did you mean " + closest + "?";
+}
+
 void check_bus_name(const char* option, const std::string& bus) {
   if (bus == "loopback" || ::if_nametoindex(bus.c_str()) != 0) return;
   if (closest_name(bus, {"loopback"}).empty()) return;

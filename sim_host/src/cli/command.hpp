@@ -32,6 +32,9 @@ std::string join_choices(const std::vector<std::string>& choices, const char* se
 // otherwise.
 std::string closest_name(const std::string& typed, const std::vector<std::string>& names);
 
+// "; did you mean NAME?" for the closest of `names`, or "" (to end a message's "(expected ...").
+std::string did_you_mean(const std::string& typed, const std::vector<std::string>& names);
+
 // --bus: a name one typo from "loopback" that is no interface of this machine is refused with the
 // suggestion (opening it would only say "unsupported").
 void check_bus_name(const char* option, const std::string& bus);

@@ -55,12 +55,13 @@ class ReplayCommand : public Command {
     } else if (rate_ != "max") {
       throw UsageError("--rate: unknown rate '" + rate_ + "' (expected max or realtime)");
     }
-    request.progress = make_frame_progress(
+    std::function<void(std::uint64_t, std::uint64_t)> progress = make_frame_progress(
         err, "replay", progress_ || stderr_is_terminal(err),
         request.realtime ? fmt::format("replay: streaming {} over {} in real time: as long as the "
                                        "recording lasts (--rate max does not wait)",
                                        request.input_path, request.bus)
                          : std::string());
+    request.progress = bus_progress(progress);
     const ReplayResult result = replay_file(request);
     out << fmt::format(
         "replayed {} over {}: {} frames sent, {} samples, {} output frames ({} seen "
@@ -124,12 +125,13 @@ class EcuCommand : public Command {
       request.setup.params.dt_s = model.scene_dt_s();
     const StopOnSignals signals(timeout_s_);
     request.stop = &stop_requested;
-    request.progress = make_frame_progress(
+    std::function<void(std::uint64_t, std::uint64_t)> progress = make_frame_progress(
         err, "ecu", progress_ || stderr_is_terminal(err),
         fmt::format(
             "ecu: waiting for SeatInput frames on {} until {}{}SIGINT or SIGTERM", request.bus,
             request.max_frames > 0 ? fmt::format("{} frames, ", request.max_frames) : std::string(),
             timeout_s_ > 0.0 ? fmt::format("{} s, ", timeout_s_) : std::string()));
+    request.progress = bus_progress(progress);
     const EcuResult result = run_ecu(request);
     out << fault_counters_text(result.faults) << "\n";
     out << result.json << "\n";

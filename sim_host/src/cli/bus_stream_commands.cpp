@@ -52,10 +52,11 @@ class PlayCommand : public Command {
     check_bus_name("--bus", request_.bus);
     const StopOnSignals signals;
     request.stop = &stop_requested;
-    request.progress = make_frame_progress(
+    std::function<void(std::uint64_t, std::uint64_t)> progress = make_frame_progress(
         err, "play", progress_ || stderr_is_terminal(err),
         fmt::format("play: sending {} on {} at {}x real time until its end, SIGINT or SIGTERM",
                     request.input_path, request.bus, request.speed));
+    request.progress = bus_progress(progress);
     const PlayResult result = play_file(request);
     out << fmt::format(
         "played {} on {} at {}x: {} of {} frames sent, {} not sent ({} interface "

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "stickslip/host/bus/bus_commands.hpp"
+
 namespace stickslip::host {
 
 class Command {
@@ -51,6 +53,17 @@ std::function<void(std::uint64_t, std::uint64_t)> make_frame_progress(std::ostre
                                                                       const char* what,
                                                                       bool enabled,
                                                                       std::string waiting);
+
+// The request's plain callback over `progress`, which must outlive the run; empty if it is.
+inline BusProgress bus_progress(std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+  if (!progress) return {};
+  BusProgress plain;
+  plain.report = [](void* context, std::uint64_t done, std::uint64_t total) {
+    (*static_cast<std::function<void(std::uint64_t, std::uint64_t)>*>(context))(done, total);
+  };
+  plain.context = &progress;
+  return plain;
+}
 
 // Checks a count option at parse time: "must be a whole number >= 1" (CLI::PositiveNumber would
 // print the smallest positive double as its bound).

@@ -6,7 +6,6 @@
 
 #include <csignal>
 #include <cstdint>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -34,8 +33,14 @@ BusRecording frames_from_log(const std::string& path, double dt_s);
 BusRecording read_bus_recording(const std::string& path, double log_dt_s);
 
 // Called after every frame with the frames done so far and the total (0: open-ended, as ecu
-// without --frames); the caller limits how often it prints.
-using BusProgress = std::function<void(std::uint64_t done, std::uint64_t total)>;
+// without --frames); the caller limits how often it prints. A plain function and its context,
+// so that this header pulls in no <functional> (tests include it after CppUTest's `new`).
+struct BusProgress {
+  void (*report)(void* context, std::uint64_t done, std::uint64_t total) = nullptr;
+  void* context = nullptr;
+  explicit operator bool() const noexcept { return report != nullptr; }
+  void operator()(std::uint64_t done, std::uint64_t total) const { report(context, done, total); }
+};
 
 struct ReplayRequest {
   std::string input_path;

@@ -5,5 +5,5 @@
 
 int main(int argc, char** argv) {
   std::ios::sync_with_stdio(false);
-  return stickslip::host::run_cli(argc, argv, std::cout, std::cerr);
+  return stickslip::host::run_cli_process(argc, argv);
 }

@@ -6,29 +6,40 @@
 # window block where the count says) and every statistic against a recomputation from the same
 # samples in long double (see reliability/src/soak_main.cpp). About 3 min per 1e9 samples on an
 # idle core (--path oscillator: the oscillator and its statistics only, about 1 min).
-#   tools/soak.sh [--samples N] [--type float|double] [--path observer|oscillator]
-# Checkpoints go to docs/reliability/soak-<type>.csv (soak-oscillator-<type>.csv for the
-# oscillator path) and, with gnuplot (install-deps.sh --report), the figure docs/img/soak-<type>.png
-# (docs/RELIABILITY.md shows the float run through the observer).
+#   tools/soak.sh [--samples N] [--type float|double] [--path observer|oscillator] [--update-docs]
+# Checkpoints go to build/soak/soak-<type>.csv (soak-oscillator-<type>.csv for the oscillator
+# path) and, with gnuplot (install-deps.sh --report), the figure build/soak/soak-<type>.png; with
+# --update-docs to docs/reliability/ and docs/img/ instead, the committed files that
+# docs/RELIABILITY.md shows (the float run through the observer), so that a trial run never
+# rewrites them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 samples=1e9
 type=float
 path=observer
+update_docs=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --samples) samples=$2; shift 2 ;;
     --type) type=$2; shift 2 ;;
     --path) path=$2; shift 2 ;;
-    *) echo "soak: unknown option '$1' (--samples N, --type float|double, --path observer|oscillator)" >&2; exit 2 ;;
+    --update-docs) update_docs=1; shift ;;
+    *) echo "soak: unknown option '$1' (--samples N, --type float|double, --path observer|oscillator, --update-docs)" >&2; exit 2 ;;
   esac
 done
 bash tools/install-deps.sh
 cmake --preset release >/dev/null
 cmake --build --preset release -j "$(nproc)" --target stickslip_soak
-mkdir -p docs/reliability docs/img
+if [ "$update_docs" = 1 ]; then
+  csv_dir=docs/reliability
+  png_dir=docs/img
+else
+  csv_dir=build/soak
+  png_dir=build/soak
+fi
+mkdir -p "$csv_dir" "$png_dir"
 name=$([ "$path" = observer ] && echo "soak-$type" || echo "soak-oscillator-$type")
-csv=docs/reliability/$name.csv
+csv=$csv_dir/$name.csv
 build/release/reliability/stickslip_soak --samples "$samples" --type "$type" --path "$path" --csv "$csv"
 if command -v gnuplot >/dev/null 2>&1; then
   # Every difference over its own tolerance (1 = the check's limit): the whole stream's T_ax and p
@@ -41,7 +52,7 @@ if command -v gnuplot >/dev/null 2>&1; then
   fi
   gnuplot <<PLOT
 set terminal pngcairo size 1000,420 font ",10"
-set output "docs/img/$name.png"
+set output "$png_dir/$name.png"
 set datafile separator ","
 set key outside right
 set logscale xy
@@ -54,3 +65,4 @@ set title "Soak ($path, $type): statistics against a recomputation from the same
 plot $lines, 1 with lines dashtype 2 title "tolerance"
 PLOT
 fi
+echo "soak: wrote $csv$([ "$update_docs" = 1 ] || echo " (--update-docs writes docs/reliability/)")" >&2

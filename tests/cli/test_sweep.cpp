@@ -194,6 +194,8 @@ TEST(Sweep, ShardsMergeIntoTheSingleRunByteForByte) {
   run = merge({shards[0], shards[1], shards[2], shards[3], dir.file("short.csv")});
   LONGS_EQUAL(1, run.status);
   STRCMP_CONTAINS("is missing", run.err.c_str());
+  // ... with the shard file that should hold it.
+  STRCMP_CONTAINS((dir.file("short.csv") + ": point ").c_str(), run.err.c_str());
   CHECK_FALSE(stickslip::test::exists(dir.file("bad.csv")));
 }
 

@@ -177,6 +177,7 @@ ReplayResult replay_file(const ReplayRequest& request) {
           start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                       std::chrono::duration<double>(static_cast<double>(i) * recording.dt_s)));
     }
+    if (request.progress) request.progress(i, recording.frames.size());
     const can::Frame& frame = recording.frames[i];
     if (send_frame(*sender, frame) == port::TransportStatus::ok) {
       ++sent_ok;
@@ -325,6 +326,7 @@ EcuResult run_ecu(const EcuRequest& request) {
     outputs.clear();
   };
   while (!stopped() && (request.max_frames == 0 || counted < request.max_frames)) {
+    if (request.progress) request.progress(counted, request.max_frames);
     can::Frame frame;
     const port::TransportStatus status = bus->receive(frame, request.poll_ms);
     if (status == port::TransportStatus::timeout) {

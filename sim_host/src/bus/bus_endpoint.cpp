@@ -19,8 +19,11 @@ std::unique_ptr<port::Transport> open_bus(const std::string& bus, const char* op
                                                    : port::make_socketcan_transport(options);
   const port::TransportStatus status = transport->open(bus);
   if (status != port::TransportStatus::ok) {
-    throw HostError(fmt::format("{} {}: cannot open the bus: {}", option, bus,
-                                port::transport_status_name(status)));
+    // "unsupported" alone does not say that the name is what was wrong.
+    throw HostError(fmt::format(
+        "{} {}: cannot open the bus: {} (expected loopback or a CAN interface of this machine, "
+        "such as vcan0; `ip link show type vcan` lists them)",
+        option, bus, port::transport_status_name(status)));
   }
   return transport;
 }

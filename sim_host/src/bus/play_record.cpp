@@ -68,6 +68,7 @@ PlayResult play_file(const PlayRequest& request) {
   std::size_t burst = 0;
   for (std::size_t i = 0; i < recording.frames.size(); ++i) {
     if (request.stop != nullptr && *request.stop != 0) break;
+    if (request.progress) request.progress(i, recording.frames.size());
     const auto due =
         start + std::chrono::duration_cast<Clock::duration>(
                     std::chrono::duration<double>(static_cast<double>(i) * interval_s));

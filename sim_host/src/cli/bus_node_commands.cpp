@@ -39,11 +39,14 @@ class ReplayCommand : public Command {
     replay.add_option("--dt", request_.log_dt_s, "sample interval of a candump-log input, s")
         ->capture_default_str();
     add_checker_options(replay, request_.checker);
+    replay.add_flag("--progress", progress_,
+                    "frames sent on stderr once a second (default: on a terminal)");
     model_.add_to(replay, request_.setup, kNodeSceneHelp);
   }
 
-  int run(CLI::App& replay, std::ostream& out, std::ostream&) override {
+  int run(CLI::App& replay, std::ostream& out, std::ostream& err) override {
     ReplayRequest request = request_;
+    check_bus_name("--bus", request_.bus);
     const ResolvedModel model = model_.resolve(replay, request.setup);
     request.scalar = model.scalar;
     if (model.scene_dt_s() > 0.0 && !given(replay, "--dt")) request.log_dt_s = model.scene_dt_s();
@@ -52,6 +55,13 @@ class ReplayCommand : public Command {
     } else if (rate_ != "max") {
       throw UsageError("--rate: unknown rate '" + rate_ + "' (expected max or realtime)");
     }
+    std::function<void(std::uint64_t, std::uint64_t)> progress = make_frame_progress(
+        err, "replay", progress_ || stderr_is_terminal(err),
+        request.realtime ? fmt::format("replay: streaming {} over {} in real time: as long as the "
+                                       "recording lasts (--rate max does not wait)",
+                                       request.input_path, request.bus)
+                         : std::string());
+    request.progress = bus_progress(progress);
     const ReplayResult result = replay_file(request);
     out << fmt::format(
         "replayed {} over {}: {} frames sent, {} samples, {} output frames ({} seen "
@@ -66,18 +76,24 @@ class ReplayCommand : public Command {
  private:
   ReplayRequest request_;
   std::string rate_ = "max";
+  bool progress_ = false;
   ModelOptions model_{kBusNodeChoices};
 };
 
 class EcuCommand : public Command {
  public:
   void add_options(CLI::App& ecu) override {
-    ecu.add_option("--bus", request_.bus, "loopback | a SocketCAN interface such as vcan0")
+    ecu.add_option("--bus", request_.bus,
+                   "a SocketCAN interface such as vcan0 (the loopback bus has no sender outside "
+                   "this process: replay runs the node on it)")
         ->required();
     ecu.add_option(
            "--frames", request_.max_frames,
            "stop after this many frames for the node (all but other nodes' outputs; 0: never)")
         ->capture_default_str();
+    ecu.add_option("--timeout", timeout_s_, "stop after this many seconds (0: never)")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber);
     ecu.add_option("--dt", request_.setup.params.dt_s, "sample interval of the stream, s")
         ->capture_default_str();
     ecu.add_option("--output", request_.output_path, "write the node's samples as simulate does");
@@ -88,17 +104,34 @@ class EcuCommand : public Command {
         "--sample-index", request_.sample_index_path,
         "write n,sample,held per row: the sender's sample number of each row, 1 if held");
     add_checker_options(ecu, request_.checker);
+    ecu.add_flag("--progress", progress_,
+                 "frames taken on stderr once a second (default: on a terminal)");
     model_.add_to(ecu, request_.setup, kNodeSceneHelp);
   }
 
-  int run(CLI::App& ecu, std::ostream& out, std::ostream&) override {
+  int run(CLI::App& ecu, std::ostream& out, std::ostream& err) override {
+    check_bus_name("--bus", request_.bus);
     EcuRequest request = request_;
     const ResolvedModel model = model_.resolve(ecu, request.setup);  // keeps --dt's value
+    if (request_.bus == "loopback") {
+      // Nothing else can send on a bus that lives in this process: the node would wait forever.
+      throw UsageError(
+          "--bus loopback: ecu would wait forever, as no other program can send on the "
+          "in-process loopback bus; use replay --bus loopback, or ecu --bus vcan0 with play or "
+          "canplayer sending");
+    }
     request.scalar = model.scalar;
     if (model.scene_dt_s() > 0.0 && !given(ecu, "--dt"))
       request.setup.params.dt_s = model.scene_dt_s();
-    const StopOnSignals signals;
+    const StopOnSignals signals(timeout_s_);
     request.stop = &stop_requested;
+    std::function<void(std::uint64_t, std::uint64_t)> progress = make_frame_progress(
+        err, "ecu", progress_ || stderr_is_terminal(err),
+        fmt::format(
+            "ecu: waiting for SeatInput frames on {} until {}{}SIGINT or SIGTERM", request.bus,
+            request.max_frames > 0 ? fmt::format("{} frames, ", request.max_frames) : std::string(),
+            timeout_s_ > 0.0 ? fmt::format("{} s, ", timeout_s_) : std::string()));
+    request.progress = bus_progress(progress);
     const EcuResult result = run_ecu(request);
     out << fault_counters_text(result.faults) << "\n";
     out << result.json << "\n";
@@ -107,6 +140,8 @@ class EcuCommand : public Command {
 
  private:
   EcuRequest request_;
+  double timeout_s_ = 0.0;
+  bool progress_ = false;
   ModelOptions model_{kBusNodeChoices};
 };
 

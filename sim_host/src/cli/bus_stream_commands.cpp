@@ -43,12 +43,20 @@ class PlayCommand : public Command {
     play.add_option("--speed", request_.speed, "times real time")->capture_default_str();
     play.add_option("--dt", request_.log_dt_s, "sample interval of a candump-log input, s")
         ->capture_default_str();
+    play.add_flag("--progress", progress_,
+                  "frames sent on stderr once a second (default: on a terminal)");
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+  int run(CLI::App&, std::ostream& out, std::ostream& err) override {
     PlayRequest request = request_;
+    check_bus_name("--bus", request_.bus);
     const StopOnSignals signals;
     request.stop = &stop_requested;
+    std::function<void(std::uint64_t, std::uint64_t)> progress = make_frame_progress(
+        err, "play", progress_ || stderr_is_terminal(err),
+        fmt::format("play: sending {} on {} at {}x real time until its end, SIGINT or SIGTERM",
+                    request.input_path, request.bus, request.speed));
+    request.progress = bus_progress(progress);
     const PlayResult result = play_file(request);
     out << fmt::format(
         "played {} on {} at {}x: {} of {} frames sent, {} not sent ({} interface "
@@ -61,6 +69,7 @@ class PlayCommand : public Command {
 
  private:
   PlayRequest request_;
+  bool progress_ = false;
 };
 
 }  // namespace

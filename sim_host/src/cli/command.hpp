@@ -6,10 +6,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "stickslip/host/bus/bus_commands.hpp"
 
 namespace stickslip::host {
 
@@ -25,6 +29,45 @@ class Command {
 // "a, b, c or d" (", ", " or ") for messages, "a | b | c" (" | ", " | ") for help.
 std::string join_choices(const std::vector<std::string>& choices, const char* separator,
                          const char* last_separator);
+
+// The name nearest to a mistyped one (edit distance), if near enough to be what was meant; empty
+// otherwise.
+std::string closest_name(const std::string& typed, const std::vector<std::string>& names);
+
+// "; did you mean NAME?" for the closest of `names`, or "" (to end a message's "(expected ...").
+std::string did_you_mean(const std::string& typed, const std::vector<std::string>& names);
+
+// --bus: a name one typo from "loopback" that is no interface of this machine is refused with the
+// suggestion (opening it would only say "unsupported").
+void check_bus_name(const char* option, const std::string& bus);
+
+// Whether `err` is the process's stderr and that is a terminal.
+bool stderr_is_terminal(const std::ostream& err);
+
+// Progress of a command that may run for long (replay, play, ecu), called after every frame:
+// `waiting` (what the command now waits for) once, at the first frame - so that an error before
+// it, such as a bus that cannot be opened, stays the only line - then, when `enabled` (a
+// terminal, or --progress), "WHAT: done/total frames" first after 2 s and at most once a second.
+// total 0: open-ended, the count alone.
+std::function<void(std::uint64_t, std::uint64_t)> make_frame_progress(std::ostream& err,
+                                                                      const char* what,
+                                                                      bool enabled,
+                                                                      std::string waiting);
+
+// The request's plain callback over `progress`, which must outlive the run; empty if it is.
+inline BusProgress bus_progress(std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+  if (!progress) return {};
+  BusProgress plain;
+  plain.report = [](void* context, std::uint64_t done, std::uint64_t total) {
+    (*static_cast<std::function<void(std::uint64_t, std::uint64_t)>*>(context))(done, total);
+  };
+  plain.context = &progress;
+  return plain;
+}
+
+// Checks a count option at parse time: "must be a whole number >= 1" (CLI::PositiveNumber would
+// print the smallest positive double as its bound).
+CLI::Validator at_least_one();
 
 // Whether the user gave the option on this subcommand (not merely its default).
 bool given(const CLI::App& command, const char* option);

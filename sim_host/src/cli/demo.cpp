@@ -39,19 +39,6 @@ std::string read_file(const std::string& path) {
   return text;
 }
 
-std::string make_fresh_directory() {
-  std::error_code error;
-  std::filesystem::path base = std::filesystem::temp_directory_path(error);
-  if (error) base = ".";
-  std::string pattern = (base / "stickslip-demo-XXXXXX").string();
-  std::vector<char> buffer(pattern.begin(), pattern.end());
-  buffer.push_back('\0');
-  if (::mkdtemp(buffer.data()) == nullptr) {
-    throw HostError(pattern + ": cannot create a demo directory: " + std::strerror(errno));
-  }
-  return std::string(buffer.data());
-}
-
 // The cheap model as users run it (signum on Simulink's ode1, which chatters once the seat
 // should stick), the same law integrated exactly, and the stick-slip model.
 struct DemoRun {
@@ -74,7 +61,7 @@ OscillatorParams reference_seat(double friction_n, FrictionModel model, Integrat
 }
 
 std::string prepare_directory(const std::string& out_dir) {
-  if (out_dir.empty()) return make_fresh_directory();
+  if (out_dir.empty()) throw UsageError("--out-dir: empty directory name");
   std::error_code error;
   std::filesystem::create_directories(out_dir, error);
   if (error) throw HostError(out_dir + ": cannot create the directory: " + error.message());

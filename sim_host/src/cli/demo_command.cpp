@@ -16,9 +16,9 @@ class DemoCommand : public Command {
     demo.add_option("--ffk", request_.friction_n, "F_fk = F_fs, N")->capture_default_str();
     demo.add_option("--bus", request_.bus,
                     "bus for the replay (default: vcan0 where the kernel has it, else loopback)");
-    demo.add_option(
-        "--out-dir", request_.out_dir,
-        "where the files go (default: a fresh directory under the system temp directory)");
+    demo.add_option("--out-dir", request_.out_dir,
+                    "where the files a reader opens go (created if missing)")
+        ->capture_default_str();
   }
 
   int run(CLI::App&, std::ostream& out, std::ostream&) override {

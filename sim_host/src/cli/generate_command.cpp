@@ -19,7 +19,8 @@ class GenerateCommand : public Command {
     generate
         .add_option(
             "--kind", kind_,
-            "wideband | lorry | harmonic | white | a seat-test spectrum: " + spectrum_kind_names())
+            "wideband | lorry | harmonic | a seat-test spectrum or band-limited white noise: " +
+                spectrum_kind_names())
         ->required();
     generate.add_option("--rms", generator_.rms_m_per_s2,
                         "RMS of a_u over the file, m/s^2 (seat-test spectra: default the "
@@ -40,6 +41,12 @@ class GenerateCommand : public Command {
   }
 
   int run(CLI::App& generate, std::ostream& out, std::ostream&) override {
+    for (const char* band : {"--band-low", "--band-high"}) {
+      if (kind_ != "white" && given(generate, band)) {
+        throw UsageError(std::string(band) + ": only --kind white has corners to set; --kind " +
+                         kind_ + " has its own band");
+      }
+    }
     if (run_spectrum(generate, out)) return kExitOk;
     if (!given(generate, "--rms")) throw UsageError("--rms is required");
     GeneratorSpec spec = generator_;

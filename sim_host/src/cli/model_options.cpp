@@ -139,7 +139,36 @@ void ModelOptions::add_to(CLI::App& command, SimulationSetup& setup,
   command.add_option("--v0", setup.v0_m_per_s, "initial v_r, m/s")->capture_default_str();
 }
 
+// Every name checked against its list before any file (the scene) is read.
+void ModelOptions::check_names(const CLI::App& command) const {
+  OscillatorParams p;
+  ScalarType scalar = ScalarType::float64;
+  if (given(command, "--model") && !parse_model(model_.c_str(), p.model)) {
+    throw UsageError(
+        "--model: unknown model '" + model_ +
+        "' (expected linear, signum, smooth, stick-slip or stribeck" +
+        did_you_mean(model_, {"linear", "signum", "smooth", "stick-slip", "stribeck"}) + ")");
+  }
+  if (!parse_smoothing(smoothing_.c_str(), p.smoothing)) {
+    throw UsageError("--smoothing: unknown form '" + smoothing_ +
+                     "' (expected atan, tanh, erf or rational" +
+                     did_you_mean(smoothing_, {"atan", "tanh", "erf", "rational"}) + ")");
+  }
+  const bool reference = choices_.reference_integrator && integrator_ == "reference";
+  if (!integrator_.empty() && !reference && !parse_integrator(integrator_.c_str(), p.integrator)) {
+    const std::vector<std::string> names = integrator_choices(choices_);
+    throw UsageError("--integrator: unknown integrator '" + integrator_ + "' (expected " +
+                     join_choices(names, ", ", " or ") + did_you_mean(integrator_, names) + ")");
+  }
+  if (!parse_scalar(scalar_, scalar)) {
+    const std::vector<std::string> names = scalar_choices(choices_);
+    throw UsageError("--scalar: unknown scalar '" + scalar_ + "' (expected " +
+                     join_choices(names, ", ", " or ") + did_you_mean(scalar_, names) + ")");
+  }
+}
+
 ResolvedModel ModelOptions::resolve(const CLI::App& command, SimulationSetup& setup) const {
+  check_names(command);
   ResolvedModel resolved;
   OscillatorParams& p = setup.params;
   const bool scene = !scene_.empty();
@@ -151,28 +180,30 @@ ResolvedModel ModelOptions::resolve(const CLI::App& command, SimulationSetup& se
   }
   const bool model_given = given(command, "--model");
   if (!scene && !model_given) throw UsageError("--model is required (or give a --scene)");
-  if (model_given && !parse_model(model_.c_str(), p.model)) {
-    throw UsageError("--model: unknown model '" + model_ +
-                     "' (expected linear, signum, smooth, stick-slip or stribeck)");
-  }
-  if ((!scene || given(command, "--smoothing")) &&
-      !parse_smoothing(smoothing_.c_str(), p.smoothing)) {
-    throw UsageError("--smoothing: unknown form '" + smoothing_ +
-                     "' (expected atan, tanh, erf or rational)");
-  }
+  if (model_given) parse_model(model_.c_str(), p.model);  // the name was checked above
+  if (!scene || given(command, "--smoothing")) parse_smoothing(smoothing_.c_str(), p.smoothing);
+  bool integrator_defaulted = false;
   if (integrator_.empty()) {
     // The scene's integrator stands while the scene's model does; else the model's default.
-    if (!scene || model_given) p.integrator = default_integrator(p.model);
+    integrator_defaulted = !scene || model_given;
+    if (integrator_defaulted) p.integrator = default_integrator(p.model);
   } else if (choices_.reference_integrator && integrator_ == "reference") {
     setup.reference = true;  // host-only solver; the core's integrator is not used
     p.integrator = default_integrator(p.model);
-  } else if (!parse_integrator(integrator_.c_str(), p.integrator)) {
-    throw UsageError("--integrator: unknown integrator '" + integrator_ + "' (expected " +
-                     join_choices(integrator_choices(choices_), ", ", " or ") + ")");
+  } else {
+    parse_integrator(integrator_.c_str(), p.integrator);
   }
-  if (!parse_scalar(scalar_, resolved.scalar)) {
-    throw UsageError("--scalar: unknown scalar '" + scalar_ + "' (expected " +
-                     join_choices(scalar_choices(choices_), ", ", " or ") + ")");
+  parse_scalar(scalar_, resolved.scalar);
+  const bool fixed_point =
+      resolved.scalar == ScalarType::fixed || resolved.scalar == ScalarType::fixed32;
+  if (fixed_point && integrator_defaulted && p.integrator == Integrator::rk4 &&
+      p.model == FrictionModel::smooth && p.smoothing == SmoothingLaw::rational) {
+    // Only the integrator stands in the way, and it came from the model's default: naming
+    // --integrator alone would blame a flag never given.
+    throw UsageError("--scalar " + scalar_ + ": the default integrator of --model " +
+                     model_name(p.model) +
+                     " is rk4, which fixed point does not offer; give --integrator exact, "
+                     "symplectic or euler");
   }
   if (choices_.bus_node) {
     const std::string refusal = ecu_node_scalar_refusal(resolved.scalar);

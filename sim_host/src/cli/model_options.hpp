@@ -51,6 +51,8 @@ class ModelOptions {
   ResolvedModel resolve(const CLI::App& command, SimulationSetup& setup) const;
 
  private:
+  void check_names(const CLI::App& command) const;
+
   ModelChoices choices_;
   std::string scene_;
   std::string model_;

@@ -24,7 +24,7 @@ class SimulateCommand : public Command {
     simulate
         .add_option("--repetitions", request_.setup.repetitions,
                     "timed runs for ns_per_sample (default 5; 3 above 2e6 steps)")
-        ->check(CLI::PositiveNumber);
+        ->check(at_least_one());
   }
 
   int run(CLI::App& simulate, std::ostream& out, std::ostream&) override {

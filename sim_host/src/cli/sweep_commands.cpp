@@ -11,6 +11,7 @@
 #include "stickslip/host/cli/cli.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/run/sweep.hpp"
+#include "stop_signals.hpp"
 
 namespace stickslip::host {
 namespace {
@@ -39,10 +40,6 @@ void parse_shard(const std::string& text, SweepRequest& request) {
   }
   request.shard_index = index;
   request.shard_count = count;
-}
-
-bool stderr_is_terminal(const std::ostream& err) {
-  return &err == &std::cerr && ::isatty(2) == 1;
 }
 
 class SweepCommand : public Command {
@@ -81,12 +78,19 @@ class SweepCommand : public Command {
 
   int run(CLI::App&, std::ostream& out, std::ostream& err) override {
     const SweepRequest request = resolve();
-    const SweepProgress progress =
+    const SweepProgress report =
         quiet_ ? SweepProgress() : make_progress_reporter(err, stderr_is_terminal(err));
+    // The counts also go where an interruption's one line reads them.
+    const SweepProgress progress = [&report](std::uint64_t done, std::uint64_t total) {
+      interrupt_points_total = total;
+      interrupt_points_done = done;
+      if (report) report(done, total);
+    };
     const SweepSummary s = run_sweep(request, output_, progress);
     out << fmt::format(
-        "wrote {}: {} of {} points, {} steps in {:.3f} s on {} threads ({:.1f} Msteps/s)\n",
+        "wrote {}: {} of {} points, {} steps in {:.3f} s on {} thread{} ({:.1f} Msteps/s)\n",
         output_, s.points_run, s.points_total, s.samples, s.seconds, s.threads,
+        s.threads == 1 ? "" : "s",
         s.seconds > 0.0 ? static_cast<double>(s.samples) / s.seconds * 1e-6 : 0.0);
     return kExitOk;
   }
@@ -96,6 +100,9 @@ class SweepCommand : public Command {
     SweepRequest request = request_;
     for (const std::string& method : methods_)
       request.methods.push_back(parse_sweep_method(method));
+    if (!k_range_.empty() && !request.k_values.empty()) {
+      throw UsageError("--k and --k-range: give one of them (both would sweep the union)");
+    }
     if (!k_range_.empty()) {
       const std::vector<double> range = k_values_from_range(k_range_);
       request.k_values.insert(request.k_values.end(), range.begin(), range.end());

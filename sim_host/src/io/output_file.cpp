@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -10,6 +11,43 @@
 #include "stickslip/host/error.hpp"
 
 namespace stickslip::host {
+namespace {
+
+// The live temporaries, readable from a signal handler: no heap, the state published only after
+// the path is complete (a handler sees a slot as free, being written, or holding a whole path).
+// More live temporaries than slots than this are not listed (simulate writes two, sweep one).
+constexpr int kTemporarySlots = 32;
+constexpr std::size_t kTemporaryPathBytes = 4096;
+enum SlotState : int { kFree = 0, kClaimed = 1, kLive = 2 };
+std::atomic<int> slot_state[kTemporarySlots];
+char slot_path[kTemporarySlots][kTemporaryPathBytes];
+
+int list_temporary(const std::string& path) noexcept {
+  if (path.size() >= kTemporaryPathBytes) return -1;
+  for (int i = 0; i < kTemporarySlots; ++i) {
+    int expected = kFree;
+    if (!slot_state[i].compare_exchange_strong(expected, kClaimed)) continue;
+    std::memcpy(slot_path[i], path.c_str(), path.size() + 1);
+    slot_state[i].store(kLive);
+    return i;
+  }
+  return -1;
+}
+
+void unlist_temporary(int& slot) noexcept {
+  if (slot >= 0) slot_state[slot].store(kFree);
+  slot = -1;
+}
+
+}  // namespace
+
+int remove_live_temporaries() noexcept {
+  int removed = 0;
+  for (int i = 0; i < kTemporarySlots; ++i) {
+    if (slot_state[i].load() == kLive && ::unlink(slot_path[i]) == 0) ++removed;
+  }
+  return removed;
+}
 
 AtomicOutputFile::AtomicOutputFile(std::string path) : path_(std::move(path)) {
   if (path_.empty()) throw UsageError("output file name is empty");
@@ -21,10 +59,17 @@ AtomicOutputFile::AtomicOutputFile(std::string path) : path_(std::move(path)) {
   // A hidden name next to the final file; "x" (exclusive) never reuses someone else's file.
   const std::string prefix =
       (final_path.parent_path() / ("." + final_path.filename().string() + ".tmp")).string();
+  // Listed before it is created: a signal between the two would otherwise leave it behind. A
+  // file that already has the name carries this process's id, so it is a dead process's leftover.
   for (unsigned attempt = 0; attempt < 1000 && file_ == nullptr; ++attempt) {
     temp_path_ = prefix + std::to_string(::getpid()) + "-" + std::to_string(attempt);
+    slot_ = list_temporary(temp_path_);
     file_ = std::fopen(temp_path_.c_str(), "wbx");
-    if (file_ == nullptr && errno != EEXIST) break;
+    if (file_ != nullptr) break;
+    const int error_number = errno;
+    unlist_temporary(slot_);
+    errno = error_number;
+    if (error_number != EEXIST) break;
   }
   if (file_ == nullptr) {
     const int error_number = errno;
@@ -46,6 +91,7 @@ void AtomicOutputFile::discard() noexcept {
     std::remove(temp_path_.c_str());
     temp_path_.clear();
   }
+  unlist_temporary(slot_);
 }
 
 void AtomicOutputFile::fail(const char* what, int error_number) {
@@ -65,6 +111,7 @@ void AtomicOutputFile::commit() {
   file_ = nullptr;
   if (closed != 0) fail("write failed", errno);
   if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) fail("cannot rename into place", errno);
+  unlist_temporary(slot_);
   temp_path_.clear();
   committed_ = true;
 }

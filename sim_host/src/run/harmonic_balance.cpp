@@ -132,12 +132,19 @@ std::size_t write_harmonic_balance_sweep(const HarmonicBalanceSweepRequest& r,
         writer.separator();
       }
       writer.flag(hb.valid);
+      // Without a harmonic-balance solution there is nothing to compare: "nan", which no
+      // reader can take for a perfect match as it would a 0.
+      const double none = std::numeric_limits<double>::quiet_NaN();
       for (double value :
-           {hb.valid ? hb.amplitude_m : 0.0, sim.amplitude_m, x_linear, sim.stick_probability,
+           {hb.valid ? hb.amplitude_m : none, sim.amplitude_m, x_linear, sim.stick_probability,
             sim.transmissibility,
-            hb.valid && sim.amplitude_m > 0.0 ? hb.amplitude_m / sim.amplitude_m - 1.0 : 0.0}) {
+            hb.valid && sim.amplitude_m > 0.0 ? hb.amplitude_m / sim.amplitude_m - 1.0 : none}) {
         writer.separator();
-        writer.number(value);
+        if (std::isnan(value)) {
+          writer.text("nan");
+        } else {
+          writer.number(value);
+        }
       }
       writer.end_row();
       ++rows;

@@ -48,15 +48,23 @@ const char* option_for(const std::string& parameter) {
 }
 
 // "--mass: mass_kg: must be >= 1e-06 ..." or, for the step, "IN.csv: dt_s: ..." (dt comes from t).
-std::string explain_configuration_error(const std::string& core_message,
-                                        const std::string& input_path, double dt_s) {
+// The core's refusal as the user's mistake: the file's time step is bad data (status 1); a
+// parameter the command line gave is a command-line error (status 2), one from a scene file data.
+[[noreturn]] void throw_configuration_error(const std::string& core_message,
+                                            const std::string& input_path, double dt_s,
+                                            bool from_scene) {
   const std::string parameter = core_message.substr(0, core_message.find(':'));
   if (parameter == "dt_s") {
-    return fmt::format("{}: the time step of the file (dt = {} s) does not suit this model: {}",
-                       input_path, dt_s, core_message);
+    throw HostError(
+        fmt::format("{}: the time step of the file (dt = {} s) does not suit this model: {}",
+                    input_path, dt_s, core_message));
   }
-  if (const char* option = option_for(parameter)) return std::string(option) + ": " + core_message;
-  return "invalid parameters: " + core_message;
+  if (const char* option = option_for(parameter)) {
+    const std::string message = std::string(option) + ": " + core_message;
+    if (from_scene) throw HostError(message);
+    throw UsageError(message);
+  }
+  throw HostError("invalid parameters: " + core_message);
 }
 
 template <typename T>
@@ -75,13 +83,13 @@ void write_trace(CsvWriter& writer, const SampledSignal& signal, const Simulatio
 template <typename T>
 SimulationSummary run_and_write(const SimulationSetup& setup, const SampledSignal& signal,
                                 const std::vector<T>& a_u, CsvWriter& writer,
-                                const std::string& input_path) {
+                                const std::string& input_path, bool from_scene) {
   SimulationTrace<T> trace;
   SimulationSummary summary;
   try {
     summary = simulate_signal(setup, a_u, trace);
   } catch (const ConfigurationError& error) {
-    throw HostError(explain_configuration_error(error.what(), input_path, setup.params.dt_s));
+    throw_configuration_error(error.what(), input_path, setup.params.dt_s, from_scene);
   }
   add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
   write_trace(writer, signal, trace);
@@ -135,8 +143,8 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
                     : simulate_signal_fixed32(setup, signal.a_u_m_per_s2, trace);
       add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
     } catch (const ConfigurationError& error) {
-      throw HostError(
-          explain_configuration_error(error.what(), request.input_path, setup.params.dt_s));
+      throw_configuration_error(error.what(), request.input_path, setup.params.dt_s,
+                                !request.scene_path.empty());
     }
     write_trace(writer, signal, trace);
   } else if (request.scalar == ScalarType::float32) {
@@ -150,9 +158,11 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
       }
     }
     const std::vector<float> a_u(signal.a_u_m_per_s2.begin(), signal.a_u_m_per_s2.end());
-    summary = run_and_write(setup, signal, a_u, writer, request.input_path);
+    summary =
+        run_and_write(setup, signal, a_u, writer, request.input_path, !request.scene_path.empty());
   } else {
-    summary = run_and_write(setup, signal, signal.a_u_m_per_s2, writer, request.input_path);
+    summary = run_and_write(setup, signal, signal.a_u_m_per_s2, writer, request.input_path,
+                            !request.scene_path.empty());
   }
   return summary;
 }

@@ -417,6 +417,8 @@ std::string sweep_method_name(const SweepMethod& method) {
 std::vector<SweepRow> compute_sweep(const SweepRequest& request, SweepSummary* summary,
                                     const SweepProgress& progress) {
   const Prepared prepared = prepare(request);
+  // The total before the first point ends: an interruption can then say "0 of N points done".
+  if (progress) progress(0, prepared.shard.size());
   SweepSummary local;
   std::vector<SweepRow> rows = execute(request, prepared, local, progress);
   if (summary) *summary = local;
@@ -426,7 +428,8 @@ std::vector<SweepRow> compute_sweep(const SweepRequest& request, SweepSummary* s
 SweepSummary run_sweep(const SweepRequest& request, const std::string& output_path,
                        const SweepProgress& progress) {
   const Prepared prepared = prepare(request);
-  AtomicOutputFile file(output_path);  // a bad path fails before the work
+  if (progress) progress(0, prepared.shard.size());  // as in compute_sweep
+  AtomicOutputFile file(output_path);                // a bad path fails before the work
   SweepSummary summary;
   const std::vector<SweepRow> rows = execute(request, prepared, summary, progress);
   CsvWriter writer(file);

@@ -23,6 +23,7 @@ void merge_sweep_shards(const std::vector<std::string>& shard_paths,
   unsigned count = 0;
   std::uint64_t points = 0;
   std::string config;
+  std::vector<std::string> shard_file;  // by shard index - 1: where each point should be
   for (const std::string& path : shard_paths) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw HostError(path + ": cannot open: " + std::strerror(errno));
@@ -43,6 +44,7 @@ void merge_sweep_shards(const std::vector<std::string>& shard_paths,
       points = total;
       config = hash;
       seen_shard.assign(n, false);
+      shard_file.assign(n, std::string());
     } else if (n != count || total != points || config != hash) {
       throw HostError(
           fmt::format("{}:1: shard of another sweep ({}/{} points {} config {}; the "
@@ -52,6 +54,7 @@ void merge_sweep_shards(const std::vector<std::string>& shard_paths,
     if (seen_shard[index - 1])
       throw HostError(fmt::format("{}: shard {}/{} given twice", path, index, n));
     seen_shard[index - 1] = true;
+    shard_file[index - 1] = path;
     if (!std::getline(in, header) || header != kSweepHeader)
       throw HostError(path + ":2: not the sweep header");
     std::size_t line_number = 2;
@@ -74,8 +77,9 @@ void merge_sweep_shards(const std::vector<std::string>& shard_paths,
   if (rows.size() != points) {
     std::uint64_t missing = 0;
     while (rows.count(missing) != 0) ++missing;
-    throw HostError(fmt::format("merge: {} of {} points present; point {} is missing", rows.size(),
-                                points, missing));
+    throw HostError(fmt::format("{}: point {} of shard {}/{} is missing ({} of {} points present)",
+                                shard_file[missing % count], missing, missing % count + 1, count,
+                                rows.size(), points));
   }
   AtomicOutputFile file(output_path);
   CsvWriter writer(file);

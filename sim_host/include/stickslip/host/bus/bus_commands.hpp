@@ -32,6 +32,16 @@ BusRecording frames_from_log(const std::string& path, double dt_s);
 // By extension: ".log" is a candump log, anything else CSV.
 BusRecording read_bus_recording(const std::string& path, double log_dt_s);
 
+// Called after every frame with the frames done so far and the total (0: open-ended, as ecu
+// without --frames); the caller limits how often it prints. A plain function and its context,
+// so that this header pulls in no <functional> (tests include it after CppUTest's `new`).
+struct BusProgress {
+  void (*report)(void* context, std::uint64_t done, std::uint64_t total) = nullptr;
+  void* context = nullptr;
+  explicit operator bool() const noexcept { return report != nullptr; }
+  void operator()(std::uint64_t done, std::uint64_t total) const { report(context, done, total); }
+};
+
 struct ReplayRequest {
   std::string input_path;
   std::string bus = "loopback";
@@ -43,6 +53,7 @@ struct ReplayRequest {
   double log_dt_s = 1e-3;       // sample interval of a candump-log input
   can::CheckerConfig checker;
   int receive_timeout_ms = 1000;  // per frame: longer is counted as silence and the replay goes on
+  BusProgress progress;           // empty: none
 };
 
 struct ReplayResult {
@@ -78,6 +89,7 @@ struct EcuRequest {
   // net.core.rmem_max): room for a node that falls behind a fast stream (receive_drops).
   int receive_buffer_bytes = 0;
   const volatile std::sig_atomic_t* stop = nullptr;  // set by a signal handler to end the run
+  BusProgress progress;                              // empty: none
 };
 
 struct EcuResult {
@@ -110,6 +122,7 @@ struct PlayRequest {
   double speed = 1.0;      // frame i goes out at i * dt / speed after the start
   double log_dt_s = 1e-3;  // sample interval of a candump-log input
   const volatile std::sig_atomic_t* stop = nullptr;
+  BusProgress progress;  // empty: none
 };
 
 struct PlayResult {

@@ -14,6 +14,10 @@ namespace stickslip::host {
 
 int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err);
 
+// run_cli on std::cout and std::cerr for the executable's main(): SIGINT and SIGTERM remove
+// every temporary output, print one line and exit 130 / 143 (existing outputs stay as they were).
+int run_cli_process(int argc, char** argv);
+
 // The same, with the arguments after the program name.
 int run_cli(const std::vector<std::string>& arguments, std::ostream& out, std::ostream& err);
 

@@ -10,9 +10,9 @@ namespace stickslip::host {
 struct DemoRequest {
   double duration_s = 120.0;
   double dt_s = 1e-3;
-  double friction_n = 45.0;  // F_fk = F_fs
-  std::string out_dir;       // empty: a fresh directory under the system temp directory
-  std::string bus;           // replay bus; empty: port::default_bus_name()
+  double friction_n = 45.0;                // F_fk = F_fs
+  std::string out_dir = "stickslip-demo";  // in the working directory, for the reader to open
+  std::string bus;                         // replay bus; empty: port::default_bus_name()
 };
 
 // Lorry recording (rms 0.35 m/s^2, seed 1) -> signum and stick-slip on the reference system ->

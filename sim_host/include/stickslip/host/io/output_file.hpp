@@ -1,7 +1,9 @@
 // Output files that appear under their final name only when complete: written to a temporary
 // file in the same directory (same file system, so the final rename is atomic) and renamed by
 // commit(). A failure - or an exception unwinding past the object - removes the temporary, so a
-// failed command never leaves a half-written OUT.csv behind.
+// failed command never leaves a half-written OUT.csv behind. Every live temporary is also
+// listed in a fixed table that a signal handler can read (remove_live_temporaries), so that
+// SIGINT/SIGTERM, which skip the destructors, leave none behind either.
 #pragma once
 
 #include <cstddef>
@@ -37,7 +39,14 @@ class AtomicOutputFile {
   std::string temp_path_;
   std::FILE* file_ = nullptr;
   bool committed_ = false;
+  int slot_ = -1;  // index in the table of live temporaries; -1 when not listed
 };
+
+// Unlinks every temporary an AtomicOutputFile holds now. Async-signal-safe (unlink(2) only, over
+// a table of fixed size written before the path is published), for a SIGINT/SIGTERM handler;
+// returns how many it removed. Final outputs are never touched: a rename has either happened
+// or not, so an existing OUT.csv stays as it was.
+int remove_live_temporaries() noexcept;
 
 // Row-oriented CSV output into a large buffer, handed to the file in big blocks.
 class CsvWriter {

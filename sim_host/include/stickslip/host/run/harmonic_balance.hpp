@@ -64,7 +64,8 @@ struct HarmonicBalanceSweepRequest {
 };
 
 // CSV: b_ns_per_m,K,ffk_n,hb_valid,x_hb_m,x_sim_m,x_linear_m,p_sim,T_ax_sim,rel_error
-// (rel_error = x_hb / x_sim - 1, 0 where hb_valid = 0). Returns the number of rows.
+// (rel_error = x_hb / x_sim - 1; x_hb_m and rel_error are "nan" where hb_valid = 0, as there is
+// no solution to compare, and a 0 would read as a perfect match). Returns the number of rows.
 std::size_t write_harmonic_balance_sweep(const HarmonicBalanceSweepRequest& request,
                                          const std::string& path);
 

@@ -140,6 +140,14 @@ bool node_takes_one(EcuNode& node, port::Transport& node_port, int timeout_ms,
   return true;
 }
 
+// The node's last outputs may still be on their way back to the sender.
+void receive_last_outputs(port::Transport& sender, ReplayResult& result) {
+  can::Frame echoed;
+  while (result.output_frames_received < result.output_frames &&
+         sender.receive(echoed, 100) == port::TransportStatus::ok)
+    ++result.output_frames_received;
+}
+
 }  // namespace
 
 ReplayResult replay_file(const ReplayRequest& request) {
@@ -196,11 +204,7 @@ ReplayResult replay_file(const ReplayRequest& request) {
     can::Frame echoed;
     while (sender->receive(echoed, 0) == port::TransportStatus::ok) ++result.output_frames_received;
   }
-  // The node's last outputs may still be on their way back.
-  can::Frame echoed;
-  while (result.output_frames_received < result.output_frames &&
-         sender->receive(echoed, 100) == port::TransportStatus::ok)
-    ++result.output_frames_received;
+  receive_last_outputs(*sender, result);
 
   result.frames_sent = sent_ok;
   result.faults = node.counters();

@@ -35,137 +35,178 @@ bool decimal(std::string_view field, std::uint32_t& value) {
 
 constexpr std::uint8_t kFdLengths[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64};
 
+// Where a problem is: the file and the 1-based line.
+struct TrcPlace {
+  const std::string& path;
+  std::size_t line;
+  [[noreturn]] void fail(const std::string& what) const { text::fail(path, line, what); }
+};
+
+struct TrcVersion {
+  int major = 1, minor = 0;
+  std::string columns;  // 2.x: the ;$COLUMNS letters without separators
+
+  // The letters of a frame line's columns, up to the data bytes (D).
+  std::string layout() const {
+    if (major == 2) return columns.empty() ? "NOTIdlD" : columns;
+    return minor == 0 ? "NOILD" : minor == 1 ? "NOTILD" : minor == 2 ? "NOBTILD" : "NOBTIRLD";
+  }
+};
+
+// A ";" line: the file version and the 2.x column list; other comments are skipped.
+void read_trc_header(std::string_view line, TrcVersion& version, const TrcPlace& place) {
+  if (line.substr(0, 14) == ";$FILEVERSION=") {
+    const std::string_view text = text::trim(line.substr(14));
+    static constexpr const char* kVersions[] = {"1.0", "1.1", "1.2", "1.3", "2.0", "2.1"};
+    for (const char* known : kVersions) {
+      if (text == known) {
+        version.major = known[0] - '0';
+        version.minor = known[2] - '0';
+        return;
+      }
+    }
+    place.fail("TRC file version " + text::quoted(text) + " is not 1.0..1.3, 2.0 or 2.1");
+  }
+  if (line.substr(0, 10) == ";$COLUMNS=") {
+    std::string& columns = version.columns;
+    columns.clear();
+    for (const char c : line.substr(10))
+      if (c != ',' && !text::is_space(c)) columns += c;
+    if (columns.find('N') == std::string::npos || columns.find('O') == std::string::npos ||
+        columns.find('I') == std::string::npos || columns.find('D') == std::string::npos ||
+        columns.back() != 'D')
+      place.fail(";$COLUMNS must name N, O, I and end with D, found " +
+                 text::quoted(line.substr(10)));
+  }
+}
+
+// One frame line's fields before the data bytes.
+struct TrcFields {
+  LogFrame frame;
+  std::size_t data_field = 0;  // index of the first data byte
+  bool data_frame = true;      // false: remote, error, CAN FD or another event
+  bool have_length = false;
+};
+
+void read_trc_length(char column, std::string_view f, TrcFields& out, const TrcPlace& place) {
+  std::uint32_t value = 0;
+  LogFrame& frame = out.frame;
+  if (column == 'L') {
+    if (!decimal(f, value) || value > 15) {
+      if (out.data_frame) place.fail("DLC " + text::quoted(f) + " is not 0..15");
+    } else if (!out.have_length) {
+      frame.dlc = static_cast<std::uint8_t>(value);
+      frame.length = static_cast<std::uint8_t>(value < 8 ? value : 8);
+    }
+    return;
+  }
+  if (!decimal(f, value) || value > 64) {
+    if (out.data_frame) place.fail("data length " + text::quoted(f) + " is not 0..64");
+    return;
+  }
+  out.have_length = true;
+  frame.length = static_cast<std::uint8_t>(value < 8 ? value : 8);
+  frame.dlc = static_cast<std::uint8_t>(value);
+  for (std::uint8_t code = 0; code < 16; ++code)
+    if (kFdLengths[code] == value) frame.dlc = code;
+  if (value > 8) out.data_frame = false;  // only a CAN FD frame is longer
+}
+
+void read_trc_column(char column, std::string_view f, int major, TrcFields& out,
+                     const TrcPlace& place) {
+  LogFrame& frame = out.frame;
+  switch (column) {
+    case 'O': {
+      double offset_ms = 0.0;
+      const auto result = std::from_chars(f.data(), f.data() + f.size(), offset_ms);
+      if (result.ec != std::errc() || result.ptr != f.data() + f.size() ||
+          !(offset_ms >= -1e15 && offset_ms <= 1e15))
+        place.fail("time offset " + text::quoted(f) + " is not milliseconds");
+      frame.time_s = offset_ms / 1000.0;
+      break;
+    }
+    case 'T':
+      if (major == 2) {
+        out.data_frame = out.data_frame && f == "DT";
+      } else if (f == "Rx" || f == "Tx") {
+        frame.direction = f[0];
+      } else {
+        out.data_frame = false;
+      }
+      break;
+    case 'B':
+      frame.channel = std::string(f);
+      break;
+    case 'I':
+      if (!hex(f, frame.id) && out.data_frame)
+        place.fail("CAN id " + text::quoted(f) + " is not hex");
+      frame.extended = f.size() > 4;
+      if (out.data_frame && frame.id > (frame.extended ? 0x1FFFFFFFu : 0x7FFu))
+        place.fail("CAN id " + text::quoted(f) + " is beyond its width");
+      break;
+    case 'd':
+      if (f == "Rx" || f == "Tx") frame.direction = f[0];
+      break;
+    case 'L':
+    case 'l':
+      read_trc_length(column, f, out, place);
+      break;
+    default:
+      break;  // N, R and columns this reader does not use
+  }
+}
+
+// A frame line: false for an event that is not a classic data frame (counted by the caller).
+bool read_trc_frame(const std::vector<std::string_view>& fields, const TrcVersion& version,
+                    LogFrame& frame, const TrcPlace& place) {
+  const std::string layout = version.layout();
+  TrcFields out;
+  std::size_t field = 0;
+  for (const char column : layout) {
+    if (column == 'D') break;
+    if (field >= fields.size())
+      place.fail("expected the columns " + layout + ", the line ends after " +
+                 std::to_string(field));
+    read_trc_column(column, fields[field++], version.major, out, place);
+  }
+  if (out.data_frame && field < fields.size() && fields[field] == "RTR") out.data_frame = false;
+  if (!out.data_frame) return false;
+  frame = std::move(out.frame);
+  if (fields.size() < field + frame.length) {
+    place.fail("DLC " + std::to_string(frame.dlc) + " but " +
+               std::to_string(fields.size() - field) + " data bytes");
+  }
+  std::uint32_t value = 0;
+  for (std::size_t i = 0; i < frame.length; ++i) {
+    if (!hex(fields[field + i], value) || value > 0xFF || fields[field + i].size() > 2)
+      place.fail("data byte " + std::to_string(i + 1) + " " + text::quoted(fields[field + i]) +
+                 " is not a hex byte");
+    frame.data[i] = static_cast<std::uint8_t>(value);
+  }
+  return true;
+}
+
 }  // namespace
 
 CanLog parse_trc(std::string_view bytes, const std::string& path) {
   CanLog log;
   log.format = CanLogFormat::kTrc;
-  int major = 1, minor = 0;
-  std::string columns;
+  TrcVersion version;
   const std::vector<std::string_view> lines = text::split_lines(bytes);
   for (std::size_t n = 0; n < lines.size(); ++n) {
     const std::string_view line = text::trim(lines[n]);
-    const auto fail = [&](const std::string& what) { text::fail(path, n + 1, what); };
+    const TrcPlace place{path, n + 1};
     if (line.empty()) continue;
     if (line.front() == ';') {
-      if (line.substr(0, 14) == ";$FILEVERSION=") {
-        const std::string_view version = text::trim(line.substr(14));
-        if (version == "1.0")
-          major = 1, minor = 0;
-        else if (version == "1.1")
-          major = 1, minor = 1;
-        else if (version == "1.2")
-          major = 1, minor = 2;
-        else if (version == "1.3")
-          major = 1, minor = 3;
-        else if (version == "2.0")
-          major = 2, minor = 0;
-        else if (version == "2.1")
-          major = 2, minor = 1;
-        else
-          fail("TRC file version " + text::quoted(version) + " is not 1.0..1.3, 2.0 or 2.1");
-      } else if (line.substr(0, 10) == ";$COLUMNS=") {
-        columns.clear();
-        for (const char c : line.substr(10))
-          if (c != ',' && !text::is_space(c)) columns += c;
-        if (columns.find('N') == std::string::npos || columns.find('O') == std::string::npos ||
-            columns.find('I') == std::string::npos || columns.find('D') == std::string::npos ||
-            columns.back() != 'D')
-          fail(";$COLUMNS must name N, O, I and end with D, found " +
-               text::quoted(line.substr(10)));
-      }
+      read_trc_header(line, version, place);
       continue;
-    }
-    const std::vector<std::string_view> fields = text::split_blanks(line);
-    std::string layout;
-    if (major == 2) {
-      layout = columns.empty() ? "NOTIdlD" : columns;
-    } else {
-      layout = minor == 0 ? "NOILD" : minor == 1 ? "NOTILD" : minor == 2 ? "NOBTILD" : "NOBTIRLD";
     }
     LogFrame frame;
-    std::size_t field = 0;
-    bool data_frame = true;
-    std::uint32_t value = 0;
-    bool have_length = false;
-    for (const char column : layout) {
-      if (column == 'D') break;
-      if (field >= fields.size())
-        fail("expected the columns " + layout + ", the line ends after " + std::to_string(field));
-      const std::string_view f = fields[field++];
-      switch (column) {
-        case 'N':
-          break;
-        case 'O': {
-          double offset_ms = 0.0;
-          const auto result = std::from_chars(f.data(), f.data() + f.size(), offset_ms);
-          if (result.ec != std::errc() || result.ptr != f.data() + f.size() ||
-              !(offset_ms >= -1e15 && offset_ms <= 1e15))
-            fail("time offset " + text::quoted(f) + " is not milliseconds");
-          frame.time_s = offset_ms / 1000.0;
-          break;
-        }
-        case 'T':
-          if (major == 2) {
-            data_frame = data_frame && f == "DT";
-          } else if (f == "Rx" || f == "Tx") {
-            frame.direction = f[0];
-          } else {
-            data_frame = false;
-          }
-          break;
-        case 'B':
-          frame.channel = std::string(f);
-          break;
-        case 'I':
-          if (!hex(f, frame.id) && data_frame) fail("CAN id " + text::quoted(f) + " is not hex");
-          frame.extended = f.size() > 4;
-          if (data_frame && frame.id > (frame.extended ? 0x1FFFFFFFu : 0x7FFu))
-            fail("CAN id " + text::quoted(f) + " is beyond its width");
-          break;
-        case 'd':
-          if (f == "Rx" || f == "Tx") frame.direction = f[0];
-          break;
-        case 'L':
-          if (!decimal(f, value) || value > 15) {
-            if (data_frame) fail("DLC " + text::quoted(f) + " is not 0..15");
-          } else if (!have_length) {
-            frame.dlc = static_cast<std::uint8_t>(value);
-            frame.length = static_cast<std::uint8_t>(value < 8 ? value : 8);
-          }
-          break;
-        case 'l':
-          if (!decimal(f, value) || value > 64) {
-            if (data_frame) fail("data length " + text::quoted(f) + " is not 0..64");
-          } else {
-            have_length = true;
-            frame.length = static_cast<std::uint8_t>(value < 8 ? value : 8);
-            frame.dlc = static_cast<std::uint8_t>(value);
-            for (std::uint8_t code = 0; code < 16; ++code)
-              if (kFdLengths[code] == value) frame.dlc = code;
-            if (value > 8) data_frame = false;  // only a CAN FD frame is longer
-          }
-          break;
-        default:
-          break;  // R and columns this reader does not use
-      }
-    }
-    if (data_frame && field < fields.size() && fields[field] == "RTR") data_frame = false;
-    if (!data_frame) {
+    if (read_trc_frame(text::split_blanks(line), version, frame, place)) {
+      log.frames.push_back(std::move(frame));
+    } else {
       ++log.skipped_events;
-      continue;
     }
-    if (fields.size() < field + frame.length) {
-      fail("DLC " + std::to_string(frame.dlc) + " but " + std::to_string(fields.size() - field) +
-           " data bytes");
-    }
-    for (std::size_t i = 0; i < frame.length; ++i) {
-      if (!hex(fields[field + i], value) || value > 0xFF || fields[field + i].size() > 2)
-        fail("data byte " + std::to_string(i + 1) + " " + text::quoted(fields[field + i]) +
-             " is not a hex byte");
-      frame.data[i] = static_cast<std::uint8_t>(value);
-    }
-    log.frames.push_back(std::move(frame));
   }
   return log;
 }

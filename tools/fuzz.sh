@@ -3,7 +3,7 @@
 # the other, each from its seed corpus fuzz/corpus/<target>/ (new inputs go to
 # build/fuzz/corpus/<target>/, the repository's seeds stay small). Crashes land in
 # build/fuzz/artifacts/ and fail the script.
-#   tools/fuzz.sh --short                 30 s per target (CI)
+#   tools/fuzz.sh --short                 15 s per target (CI: a smoke run of every target)
 #   tools/fuzz.sh --long [SECONDS]        SECONDS per target (default 3600)
 #   tools/fuzz.sh --runs N [TARGET...]    N executions per target (e.g. --runs 10000000)
 set -euo pipefail
@@ -12,7 +12,7 @@ mode=${1:---short}
 shift || true
 limit=()
 case "$mode" in
-  --short) limit=(-max_total_time=30) ;;
+  --short) limit=(-max_total_time=15) ;;
   --long) limit=(-max_total_time="${1:-3600}"); shift || true ;;
   --runs) limit=(-runs="${1:?--runs needs a count}"); shift ;;
   *) echo "fuzz: unknown mode '$mode' (--short, --long [SECONDS], --runs N)" >&2; exit 2 ;;

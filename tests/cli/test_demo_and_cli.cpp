@@ -49,6 +49,29 @@ TEST(DemoCommand, LowFrictionSaysSignumSuffices) {
   STRCMP_CONTAINS("K = 0.15 < 0.4: signum suffices", run.out.c_str());
 }
 
+TEST(DemoCommand, NoClobberKeepsAnEarlierFileAndWritesNothing) {
+  const std::string out_dir = dir.file("kept");
+  const CliRun made = run_stickslip({"demo", "--duration", "2", "--out-dir", out_dir});
+  LONGS_EQUAL(0, made.status);
+  stickslip::test::write_text(out_dir + "/stick-slip-exact.json", "the user's own\n");
+  const std::string recording = stickslip::test::read_text(out_dir + "/lorry.csv");
+  const CliRun kept =
+      run_stickslip({"demo", "--duration", "3", "--out-dir", out_dir, "--no-clobber"});
+  LONGS_EQUAL(1, kept.status);
+  STRCMP_EQUAL("", kept.out.c_str());
+  STRCMP_EQUAL(("stickslip: --out-dir " + out_dir +
+                ": lorry.csv exists, and --no-clobber keeps it (nothing written)\n")
+                   .c_str(),
+               kept.err.c_str());
+  STRCMP_EQUAL("the user's own\n",
+               stickslip::test::read_text(out_dir + "/stick-slip-exact.json").c_str());
+  CHECK_TRUE(recording == stickslip::test::read_text(out_dir + "/lorry.csv"));
+  // A folder of its own: the demo runs, as without the flag.
+  LONGS_EQUAL(
+      0, run_stickslip({"demo", "--duration", "2", "--out-dir", dir.file("fresh"), "--no-clobber"})
+             .status);
+}
+
 TEST(DemoCommand, BadOptionsAreRefused) {
   const CliRun run = run_stickslip({"demo", "--dt", "0.1", "--out-dir", dir.file("d")});
   LONGS_EQUAL(2, run.status);

@@ -250,3 +250,20 @@ TEST(FirstHour, MistypedChoiceIsRefusedWithTheListBeforeAnyFileIsRead) {
                  "--model: unknown model 'signun' (expected linear, signum, smooth, stick-slip or "
                  "stribeck; did you mean signum?)");
 }
+
+TEST(FirstHour, SimulateWithProgressNamesEachStageOnStderrAndIsSilentWithout) {
+  const std::string out = dir.file("o.csv");
+  const CliRun run = run_stickslip(
+      {"simulate", "--input", in, "--output", out, "--model", "signum", "--progress"});
+  LONGS_EQUAL(0, run.status);
+  const std::vector<std::string> lines = split_lines(run.err);
+  LONGS_EQUAL(3, lines.size());
+  STRCMP_CONTAINS(("simulate: reading " + in + " (").c_str(), lines[0].c_str());
+  STRCMP_CONTAINS("simulate: simulating 4 samples (", lines[1].c_str());
+  STRCMP_CONTAINS(("simulate: writing " + out + " (").c_str(), lines[2].c_str());
+  // Not a terminal and no --progress: a short run prints nothing on stderr.
+  const CliRun quiet =
+      run_stickslip({"simulate", "--input", in, "--output", out, "--model", "signum"});
+  LONGS_EQUAL(0, quiet.status);
+  STRCMP_EQUAL("", quiet.err.c_str());
+}

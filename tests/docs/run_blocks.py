@@ -32,7 +32,9 @@ CTest runs the blocks at full length: together they take about 20 s.
 
 Second mode, `json-keys`: runs `stickslip simulate` in several configurations and `stickslip
 replay` on the loopback bus and compares the keys of their JSON lines with the key table of
-sim_host/README.md (the table after `<!-- docs-test: json-keys -->`). Third mode, `choices`:
+sim_host/README.md (the table after `<!-- docs-test: json-keys -->`), and the keys `ecu` sets
+(read from its JSON writer: ecu needs a CAN interface) with the table after
+`<!-- docs-test: json-keys ecu -->`. Third mode, `choices`:
 the --integrator and --scalar choices of simulate, replay and ecu in sim_host/README.md's
 synopsis against those each command's --help offers.
 """
@@ -408,17 +410,17 @@ def run_docs(args):
 
 # --- json-keys -----------------------------------------------------------------------------------
 
-def documented_keys(source):
-    """Rows of the table after `<!-- docs-test: json-keys -->`: {key: condition}."""
+def documented_keys(source, table=()):
+    """Rows of the table after `<!-- docs-test: json-keys [TABLE] -->`: {key: condition}."""
     path = os.path.join(source, "sim_host", "README.md")
     with open(path, encoding="utf-8") as handle:
         lines = handle.read().split("\n")
     for n, line in enumerate(lines):
         marker = MARKER.match(line)
-        if marker and marker.group(1).split()[:1] == ["json-keys"]:
+        if marker and marker.group(1).split() == ["json-keys", *table]:
             break
     else:
-        raise DocError(f"{path}: no <!-- docs-test: json-keys --> table")
+        raise DocError(f"{path}: no <!-- docs-test: {' '.join(['json-keys', *table])} --> table")
     keys = {}
     for line in lines[n + 1:]:
         if not line.strip():
@@ -500,10 +502,35 @@ def run_json_keys(args):
     if missing:
         failures.append("keys in sim_host/README.md's table that no run printed: " +
                         ", ".join(missing))
+    failures += check_ecu_keys(os.path.abspath(args.source))
     for failure in failures:
         print(f"FAILED: {failure}")
     print(f"documented keys: {len(documented)}, printed keys: {len(seen)}")
     return 1 if failures else 0
+
+
+def check_ecu_keys(source):
+    """`ecu` needs a CAN interface (the vcan guest runs it): its table is checked against the keys
+    its JSON writer, ecu_json() in sim_host/src/bus/bus_commands.cpp, sets."""
+    documented = documented_keys(source, ("ecu",))
+    path = os.path.join(source, "sim_host", "src", "bus", "bus_commands.cpp")
+    if not os.path.isfile(path):
+        return [f"{path}: missing, so the ecu keys cannot be read"]
+    with open(path, encoding="utf-8") as handle:
+        code = handle.read()
+    body = re.search(r"\nstd::string ecu_json\(.*?\n}\n", code, flags=re.S)
+    if body is None:
+        return [f"{path}: no ecu_json() to read the ecu keys from"]
+    written = set(re.findall(r'json\["([A-Za-z_.]+)"\]', body.group(0)))
+    failures = []
+    if written - set(documented):
+        failures.append("ecu keys set by ecu_json() but not in sim_host/README.md's ecu table: " +
+                        ", ".join(sorted(written - set(documented))))
+    if set(documented) - written:
+        failures.append("keys in sim_host/README.md's ecu table that ecu_json() never sets: " +
+                        ", ".join(sorted(set(documented) - written)))
+    print(f"ecu: {len(written)} keys in ecu_json(), {len(documented)} documented")
+    return failures
 
 
 # --- choices -------------------------------------------------------------------------------------

@@ -19,8 +19,11 @@ STICKSLIP, SCRATCH, SOURCE = (os.path.abspath(a) for a in sys.argv[1:4])
 def make_tree(name, readme, sim_host_readme=None):
     root = os.path.join(SCRATCH, name)
     shutil.rmtree(root, ignore_errors=True)
-    os.makedirs(os.path.join(root, "sim_host"))
+    os.makedirs(os.path.join(root, "sim_host", "src", "bus"))
     os.makedirs(os.path.join(root, "docs"))
+    # The ecu keys are read from its JSON writer.
+    shutil.copy(os.path.join(SOURCE, "sim_host", "src", "bus", "bus_commands.cpp"),
+                os.path.join(root, "sim_host", "src", "bus"))
     with open(os.path.join(root, "README.md"), "w", encoding="utf-8") as handle:
         handle.write(readme)
     if sim_host_readme is not None:
@@ -122,6 +125,20 @@ class Runner(unittest.TestCase):
         self.assertEqual(status, 1, output)
         self.assertIn("not in sim_host/README.md's table: crest_factor", output)
         self.assertIn("that no run printed: no_such_key", output)
+
+    def test_json_keys_name_an_ecu_key_the_table_lacks(self):
+        with open(os.path.join(SOURCE, "sim_host", "README.md"), encoding="utf-8") as handle:
+            text = handle.read()
+        self.assertIn("| `left_after_stop` | frames queued after the stop", text)
+        text = text.replace("| `left_after_stop` | frames queued after the stop",
+                            "| `left_over` | frames queued after the stop")
+        root = make_tree("ecu-keys", "", text)
+        status, output = run("json-keys", root)
+        self.assertEqual(status, 1, output)
+        self.assertIn("ecu keys set by ecu_json() but not in sim_host/README.md's ecu table: "
+                      "left_after_stop", output)
+        self.assertIn("keys in sim_host/README.md's ecu table that ecu_json() never sets: "
+                      "left_over", output)
 
     def test_choices_name_a_synopsis_that_lists_fewer_integrators_than_help(self):
         with open(os.path.join(SOURCE, "sim_host", "README.md"), encoding="utf-8") as handle:

@@ -141,6 +141,22 @@ canplayer_to_ecu() {
 }
 check "canplayer (log from stickslip record) -> stickslip ecu --bus $iface == offline" canplayer_to_ecu
 
+# The node on a silent bus: it says what it waits for, stops at --timeout by itself (not by the
+# outer `timeout`) with status 0, and prints its statistics with no sample taken.
+ecu_timeout_on_a_silent_bus() {
+  started=$(cut -d' ' -f1 /proc/uptime)
+  timeout 60 stickslip ecu --bus "$iface" --timeout 2 $model > "$out/timeout.txt" 2> "$out/timeout.err" ||
+    { echo "  ecu exited with $?"; cat "$out/timeout.err"; return 1; }
+  took=$(awk "BEGIN { print $(cut -d' ' -f1 /proc/uptime) - $started }")
+  grep -q "^ecu: waiting for SeatInput frames on $iface until 2 s, SIGINT or SIGTERM" "$out/timeout.err" ||
+    { echo "  no line on what it waits for:"; cat "$out/timeout.err"; return 1; }
+  awk "BEGIN { exit !($took >= 2 && $took < 30) }" || { echo "  stopped after $took s, not at 2 s"; return 1; }
+  tail -n 1 "$out/timeout.txt" > "$out/timeout.json"
+  expect "$out/timeout.json" samples 0 && expect "$out/timeout.json" frames_received 0 &&
+    expect_clean "$out/timeout.json"
+}
+check "stickslip ecu --timeout 2 on a silent $iface says what it waits for and stops by itself" ecu_timeout_on_a_silent_bus
+
 capture_read_back() {
   capture=$(ls "$out"/capture/candump-*.log 2>/dev/null | head -n 1)
   [ -n "$capture" ] || { echo "  candump -l wrote no log"; return 1; }

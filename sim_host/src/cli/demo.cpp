@@ -60,6 +60,30 @@ OscillatorParams reference_seat(double friction_n, FrictionModel model, Integrat
   return p;
 }
 
+// Every file the demo writes into --out-dir, in the order it writes them.
+const char* const kDemoFiles[] = {"lorry.csv",
+                                  "signum-euler.csv",
+                                  "signum-euler.json",
+                                  "signum-exact.csv",
+                                  "signum-exact.json",
+                                  "stick-slip-exact.csv",
+                                  "stick-slip-exact.json",
+                                  "stick-slip-replay.csv",
+                                  "stick-slip-quantised.csv"};
+
+// With --no-clobber, before anything is written: a file of an earlier demo (or the user's) is
+// kept, and nothing is written beside it.
+void refuse_existing_files(const std::filesystem::path& dir) {
+  for (const char* name : kDemoFiles) {
+    std::error_code error;
+    const std::filesystem::path path = dir / name;
+    if (std::filesystem::exists(path, error)) {
+      throw HostError("--out-dir " + dir.string() + ": " + name +
+                      " exists, and --no-clobber keeps it (nothing written)");
+    }
+  }
+}
+
 std::string prepare_directory(const std::string& out_dir) {
   if (out_dir.empty()) throw UsageError("--out-dir: empty directory name");
   std::error_code error;
@@ -179,6 +203,7 @@ void run_demo(const DemoRequest& request, std::ostream& out) {
   recording.seed = 1;
   validate(recording);  // before creating any directory
 
+  if (request.no_clobber) refuse_existing_files(request.out_dir);
   const std::string directory = prepare_directory(request.out_dir);
   const std::filesystem::path dir(directory);
   const std::string recording_path = (dir / "lorry.csv").string();
@@ -188,9 +213,9 @@ void run_demo(const DemoRequest& request, std::ostream& out) {
   print_table(request, rows, out);
   print_verdict(rows[0].result.summary, rows[2].result.summary, out);  // ode1 vs stick-slip
   replay_and_compare(request, recording_path, dir, out);
-  out << "files: " << directory
-      << " (lorry.csv; signum-euler, signum-exact, stick-slip-exact .csv/.json; "
-         "stick-slip-replay.csv, stick-slip-quantised.csv)\n";
+  out << "files: " << directory << " (";
+  for (const char* name : kDemoFiles) out << (name == kDemoFiles[0] ? "" : ", ") << name;
+  out << ")\n";
 }
 
 }  // namespace stickslip::host

@@ -19,6 +19,8 @@ class DemoCommand : public Command {
     demo.add_option("--out-dir", request_.out_dir,
                     "where the files a reader opens go (created if missing)")
         ->capture_default_str();
+    demo.add_flag("--no-clobber", request_.no_clobber,
+                  "refuse to replace the files of an earlier demo in --out-dir");
   }
 
   int run(CLI::App&, std::ostream& out, std::ostream&) override {

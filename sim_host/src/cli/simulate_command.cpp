@@ -3,6 +3,7 @@
 
 #include "command.hpp"
 #include "model_options.hpp"
+#include "stage_progress.hpp"
 #include "stickslip/host/cli/cli.hpp"
 #include "stickslip/host/run/simulate_file.hpp"
 
@@ -25,16 +26,24 @@ class SimulateCommand : public Command {
         .add_option("--repetitions", request_.setup.repetitions,
                     "timed runs for ns_per_sample (default 5; 3 above 2e6 steps)")
         ->check(at_least_one());
+    simulate.add_flag("--progress", progress_,
+                      "print each stage on stderr (on a terminal: the stage still running once "
+                      "the run takes over 2 s)");
   }
 
-  int run(CLI::App& simulate, std::ostream& out, std::ostream&) override {
+  int run(CLI::App& simulate, std::ostream& out, std::ostream& err) override {
     SimulateRequest request = request_;
     const ResolvedModel model = model_.resolve(simulate, request.setup);
     request.scalar = model.scalar;
     // simulate_file() checks the scene's sample rate against the recording's.
     request.scene_path = model.scene_path;
     request.scene_dt_s = model.scene_dt_s();
-    const SimulateResult result = simulate_file(request);
+    SimulateResult result;
+    {
+      StageProgress progress(err, "simulate", progress_, stderr_is_terminal(err));
+      request.on_stage = [&progress](const std::string& stage) { progress.begin(stage); };
+      result = simulate_file(request);
+    }
     out << result.stats_json << "\n";  // the last line of stdout, for tools
     return kExitOk;
   }
@@ -42,6 +51,7 @@ class SimulateCommand : public Command {
  private:
   SimulateRequest request_;
   ModelOptions model_{kSimulateChoices};
+  bool progress_ = false;
 };
 
 }  // namespace

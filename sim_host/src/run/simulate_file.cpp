@@ -80,18 +80,24 @@ void write_trace(CsvWriter& writer, const SampledSignal& signal, const Simulatio
   csv.flush();
 }
 
+void report(const SimulateRequest& request, const std::string& stage) {
+  if (request.on_stage) request.on_stage(stage);
+}
+
 template <typename T>
-SimulationSummary run_and_write(const SimulationSetup& setup, const SampledSignal& signal,
-                                const std::vector<T>& a_u, CsvWriter& writer,
-                                const std::string& input_path, bool from_scene) {
+SimulationSummary run_and_write(const SimulateRequest& request, const SimulationSetup& setup,
+                                const SampledSignal& signal, const std::vector<T>& a_u,
+                                CsvWriter& writer) {
   SimulationTrace<T> trace;
   SimulationSummary summary;
   try {
     summary = simulate_signal(setup, a_u, trace);
   } catch (const ConfigurationError& error) {
-    throw_configuration_error(error.what(), input_path, setup.params.dt_s, from_scene);
+    throw_configuration_error(error.what(), request.input_path, setup.params.dt_s,
+                              !request.scene_path.empty());
   }
   add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
+  report(request, "writing " + request.output_path);
   write_trace(writer, signal, trace);
   return summary;
 }
@@ -146,6 +152,7 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
       throw_configuration_error(error.what(), request.input_path, setup.params.dt_s,
                                 !request.scene_path.empty());
     }
+    report(request, "writing " + request.output_path);
     write_trace(writer, signal, trace);
   } else if (request.scalar == ScalarType::float32) {
     // Converted once, before the loop: the float run sees only floats (and only finite ones).
@@ -158,11 +165,9 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
       }
     }
     const std::vector<float> a_u(signal.a_u_m_per_s2.begin(), signal.a_u_m_per_s2.end());
-    summary =
-        run_and_write(setup, signal, a_u, writer, request.input_path, !request.scene_path.empty());
+    summary = run_and_write(request, setup, signal, a_u, writer);
   } else {
-    summary = run_and_write(setup, signal, signal.a_u_m_per_s2, writer, request.input_path,
-                            !request.scene_path.empty());
+    summary = run_and_write(request, setup, signal, signal.a_u_m_per_s2, writer);
   }
   return summary;
 }
@@ -171,6 +176,7 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
 
 SimulateResult simulate_file(const SimulateRequest& request) {
   check_request(request);
+  report(request, "reading " + request.input_path);
   const SampledSignal signal = read_signal_file(request.input_path);  // CSV or .mat
   if (request.scene_dt_s > 0.0 &&
       std::fabs(signal.dt_s - request.scene_dt_s) > 1e-9 * request.scene_dt_s) {
@@ -188,6 +194,7 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   CsvWriter writer(output);
 
   SimulateResult result;
+  report(request, fmt::format("simulating {} samples", signal.a_u_m_per_s2.size()));
   result.summary = run_in_scalar(request, setup, signal, writer);
   result.stats_json = format_stats_json(
       result.summary,

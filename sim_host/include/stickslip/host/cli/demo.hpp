@@ -13,6 +13,7 @@ struct DemoRequest {
   double friction_n = 45.0;                // F_fk = F_fs
   std::string out_dir = "stickslip-demo";  // in the working directory, for the reader to open
   std::string bus;                         // replay bus; empty: port::default_bus_name()
+  bool no_clobber = false;                 // refuse to replace a file an earlier demo wrote
 };
 
 // Lorry recording (rms 0.35 m/s^2, seed 1) -> signum and stick-slip on the reference system ->

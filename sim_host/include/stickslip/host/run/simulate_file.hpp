@@ -1,11 +1,16 @@
 // `stickslip simulate` as a function: a recording in, the trace CSV and the statistics out.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "stickslip/host/run/simulation.hpp"
 
 namespace stickslip::host {
+
+// Called as each stage of simulate_file() starts ("reading IN.csv", "simulating N samples",
+// "writing OUT.csv"), from the calling thread; empty: nobody is told.
+using StageReport = std::function<void(const std::string& stage)>;
 
 struct SimulateRequest {
   std::string input_path;
@@ -15,6 +20,7 @@ struct SimulateRequest {
   ScalarType scalar = ScalarType::float64;
   std::string scene_path;   // --scene: checked against the input's dt when it names a sample rate
   double scene_dt_s = 0.0;  // 0: the scene names no sample rate
+  StageReport on_stage;
 };
 
 struct SimulateResult {

@@ -3,6 +3,7 @@
 
 #include "command.hpp"
 #include "model_options.hpp"
+#include "recording_options.hpp"
 #include "stickslip/host/cli/cli.hpp"
 #include "stickslip/host/run/simulate_file.hpp"
 
@@ -14,7 +15,7 @@ class SimulateCommand : public Command {
   void add_options(CLI::App& simulate) override {
     simulate
         .add_option("--input", request_.input_path,
-                    "CSV with columns t (uniform, s) and a_u (m/s^2)")
+                    "recording: CSV t,a_u, a logger's text, .mat, or a CAN log with --dbc")
         ->required();
     simulate.add_option("--output", request_.output_path, "CSV file to write")->required();
     simulate.add_option("--stats", request_.stats_path, "also write the statistics JSON here");
@@ -25,16 +26,19 @@ class SimulateCommand : public Command {
         .add_option("--repetitions", request_.setup.repetitions,
                     "timed runs for ns_per_sample (default 5; 3 above 2e6 steps)")
         ->check(at_least_one());
+    recording_.add_to(simulate);
   }
 
-  int run(CLI::App& simulate, std::ostream& out, std::ostream&) override {
+  int run(CLI::App& simulate, std::ostream& out, std::ostream& err) override {
     SimulateRequest request = request_;
+    request.recording = recording_.resolve();
     const ResolvedModel model = model_.resolve(simulate, request.setup);
     request.scalar = model.scalar;
     // simulate_file() checks the scene's sample rate against the recording's.
     request.scene_path = model.scene_path;
     request.scene_dt_s = model.scene_dt_s();
     const SimulateResult result = simulate_file(request);
+    print_recording_report(err, request.input_path, result.recording);
     out << result.stats_json << "\n";  // the last line of stdout, for tools
     return kExitOk;
   }
@@ -42,6 +46,7 @@ class SimulateCommand : public Command {
  private:
   SimulateRequest request_;
   ModelOptions model_{kSimulateChoices};
+  RecordingOptionGroup recording_;
 };
 
 }  // namespace

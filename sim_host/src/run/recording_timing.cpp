@@ -12,14 +12,6 @@
 namespace stickslip::host {
 namespace {
 
-double median_step(const std::vector<double>& t) {
-  std::vector<double> steps(t.size() - 1);
-  for (std::size_t i = 1; i < t.size(); ++i) steps[i - 1] = t[i] - t[i - 1];
-  const auto middle = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
-  std::nth_element(steps.begin(), middle, steps.end());
-  return *middle;
-}
-
 void check_times(const std::string& path, const RawSeries& raw) {
   if (raw.t_s.size() < 2) {
     throw HostError(fmt::format("{}: {} sample{}; at least 2 are needed", path, raw.t_s.size(),
@@ -35,20 +27,6 @@ void check_times(const std::string& path, const RawSeries& raw) {
                                   raw.t_s[i], raw.t_s[i - 1]));
     }
   }
-}
-
-// Samples in runs of at least 3 equal values at the recording's minimum or maximum: a logger or
-// a CAN signal at its full scale.
-std::size_t clipped_samples(const std::vector<double>& v) {
-  const auto [low, high] = std::minmax_element(v.begin(), v.end());
-  std::size_t clipped = 0;
-  for (std::size_t i = 0; i < v.size();) {
-    std::size_t end = i + 1;
-    while (end < v.size() && v[end] == v[i]) ++end;
-    if (end - i >= 3 && (v[i] == *low || v[i] == *high)) clipped += end - i;
-    i = end;
-  }
-  return clipped;
 }
 
 struct Part {
@@ -96,16 +74,18 @@ SampledSignal onto_model_step(const std::string& path, Part part, double step,
   const bool uniform = jitter <= kJitterTolerance;
   if (!uniform && !(options.dt_s > 0)) {
     throw HostError(fmt::format(
-        "{}: the sample times jitter by up to {:.3g} % of the {} s step; give --dt S to put "
+        "{}: the sample times jitter by up to {:.3g} % of the {:.6g} s step; give --dt S to put "
         "them on the model's step",
         path, 100.0 * jitter, step));
   }
   double grid_step = (part.t_s.back() - part.t_s.front()) / static_cast<double>(n - 1);
   std::vector<double> values = std::move(part.values);
+  // Grid counts get a millionth of a step of slack: with quantized times (candump) the span is a
+  // whole number of steps only to rounding.
   if (!uniform) {
     grid_step = step;
     const auto count =
-        static_cast<std::size_t>(std::floor((part.t_s.back() - part.t_s.front()) / step + 1e-9)) +
+        static_cast<std::size_t>(std::floor((part.t_s.back() - part.t_s.front()) / step + 1e-6)) +
         1;
     values = spline_onto_grid(part.t_s, values, part.t_s.front(), step, count);
     report.regridded_samples += count;
@@ -114,7 +94,7 @@ SampledSignal onto_model_step(const std::string& path, Part part, double step,
   bool resampled = false;
   if (options.dt_s > 0 && std::fabs(grid_step - options.dt_s) > kJitterTolerance * options.dt_s) {
     const double span = grid_step * static_cast<double>(values.size() - 1);
-    const auto count = static_cast<std::size_t>(std::floor(span / options.dt_s + 1e-9)) + 1;
+    const auto count = static_cast<std::size_t>(std::floor(span / options.dt_s + 1e-6)) + 1;
     values = resample_rate(values, 1.0 / grid_step, 1.0 / options.dt_s, count);
     resampled = report.resampled = true;
     report.resampled_to_hz = 1.0 / options.dt_s;
@@ -136,6 +116,39 @@ SampledSignal onto_model_step(const std::string& path, Part part, double step,
 
 }  // namespace
 
+double median_step(const std::vector<double>& t) {
+  std::vector<double> steps(t.size() - 1);
+  for (std::size_t i = 1; i < t.size(); ++i) steps[i - 1] = t[i] - t[i - 1];
+  const auto middle = steps.begin() + static_cast<std::ptrdiff_t>(steps.size() / 2);
+  std::nth_element(steps.begin(), middle, steps.end());
+  return *middle;
+}
+
+// Samples in runs of at least 3 equal values at the recording's minimum or maximum: a logger or
+// a CAN signal at its full scale.
+double nominal_step(const std::vector<double>& t) {
+  const double median = median_step(t);
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    const double step = t[i] - t[i - 1];
+    if (step <= kGapSteps * median) sum += step, ++count;
+  }
+  return sum / static_cast<double>(count);
+}
+
+std::size_t clipped_samples(const std::vector<double>& v) {
+  const auto [low, high] = std::minmax_element(v.begin(), v.end());
+  std::size_t clipped = 0;
+  for (std::size_t i = 0; i < v.size();) {
+    std::size_t end = i + 1;
+    while (end < v.size() && v[end] == v[i]) ++end;
+    if (end - i >= 3 && (v[i] == *low || v[i] == *high)) clipped += end - i;
+    i = end;
+  }
+  return clipped;
+}
+
 std::vector<SampledSignal> condition_series(const std::string& path, RawSeries raw,
                                             const RecordingOptions& options,
                                             RecordingReport& report) {
@@ -152,7 +165,7 @@ std::vector<SampledSignal> condition_series(const std::string& path, RawSeries r
   if (report.unit_factor != 1.0)
     for (double& v : raw.values) v *= report.unit_factor;
   report.clipped_samples = clipped_samples(raw.values);
-  const double step = median_step(raw.t_s);
+  const double step = nominal_step(raw.t_s);
   report.source_rate_hz = 1.0 / step;
   for (std::size_t i = 1; i < raw.t_s.size(); ++i) {
     const double gap = raw.t_s[i] - raw.t_s[i - 1];
@@ -167,7 +180,8 @@ std::vector<SampledSignal> condition_series(const std::string& path, RawSeries r
   }
   if (report.gaps > 0 && options.gaps == GapPolicy::refuse) {
     throw HostError(fmt::format(
-        "{}: gap after t = {} s: {} s without samples (the step is {} s; {} gap{} in all); "
+        "{}: gap after t = {} s: {:.6g} s without samples (the step is {:.6g} s; {} gap{} in "
+        "all); "
         "--gaps hold repeats the last value, --gaps split runs each part alone",
         path, report.first_gap_t_s, report.first_gap_length_s, step, report.gaps,
         report.gaps == 1 ? "" : "s"));
@@ -195,7 +209,7 @@ std::string describe_recording(const std::string& path, const RecordingReport& r
   }
   if (r.resampled) text += fmt::format("; resampled to {:.6g} Hz (libsoxr VHQ)", r.resampled_to_hz);
   if (r.gaps > 0) {
-    text += fmt::format("; {} gap{} (first after t = {} s, {} s long)", r.gaps,
+    text += fmt::format("; {} gap{} (first after t = {} s, {:.6g} s long)", r.gaps,
                         r.gaps == 1 ? "" : "s", r.first_gap_t_s, r.first_gap_length_s);
   }
   if (r.held_samples > 0) text += fmt::format("; {} samples held over gaps", r.held_samples);

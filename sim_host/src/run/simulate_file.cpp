@@ -212,7 +212,7 @@ std::string with_recording_fields(const std::string& stats_json, const LoadedRec
       part["t_start_s"] = recording.segments[i].t_s.front();
       part["samples"] = parts[i].samples;
       part["T_ax"] = parts[i].transmissibility;
-      part["p"] = parts[i].stick_probability;
+      part["p_stick"] = parts[i].stick_probability;
       segments.push_back(part);
     }
   }

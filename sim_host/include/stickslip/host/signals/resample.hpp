@@ -10,8 +10,8 @@ namespace stickslip::host {
 
 // The values of the natural cubic spline through (t_s[i], values[i]) at t0_s + k step_s,
 // k = 0..count-1. t_s must increase strictly, have the same length as values (>= 2), and the grid
-// must lie within [t_s.front(), t_s.back()] (a grid point past the last sample by less than
-// 1e-9 step_s is evaluated at the last sample).
+// must start within [t_s.front(), t_s.back()]; a grid point past the last sample (by rounding)
+// is evaluated at the last sample.
 std::vector<double> spline_onto_grid(const std::vector<double>& t_s,
                                      const std::vector<double>& values, double t0_s, double step_s,
                                      std::size_t count);

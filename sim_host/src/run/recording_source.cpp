@@ -27,13 +27,15 @@ bool has_mat_extension(const std::string& path) {
   return path.size() >= 4 && lower(path.substr(path.size() - 4)) == ".mat";
 }
 
-// The project's own CSV: a first line naming t and a_u, read by read_signal_csv as always (an
-// unreadable file too, so that its error stays the one users know).
+// The project's own CSV: a first line naming t or a_u (without a byte order mark, which that
+// reader does not strip), read by read_signal_csv as always, its errors included; so is a file
+// that reader cannot open, so that its message stays the one users know.
 bool is_project_csv(const std::string& path) {
   try {
     CsvReader reader(path);
     const auto& columns = reader.columns();
-    return std::find(columns.begin(), columns.end(), "t") != columns.end() &&
+    if (!columns.empty() && columns.front().rfind("\xEF\xBB\xBF", 0) == 0) return false;
+    return std::find(columns.begin(), columns.end(), "t") != columns.end() ||
            std::find(columns.begin(), columns.end(), "a_u") != columns.end();
   } catch (const HostError&) {
     return true;

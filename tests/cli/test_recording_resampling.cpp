@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "stickslip/host/io/csv_reader.hpp"
+#include "stickslip/host/io/mat_file.hpp"
 #include "support/cli_run.hpp"
 #include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
@@ -164,4 +166,44 @@ TEST(RecordingResampling, SplitRunsEachPartAloneAndReportsEachAndTheWhole) {
   LONGS_EQUAL(3900, stats["samples"].get<int>());
   LONGS_EQUAL(3900, read_table(dir.file("out.csv")).rows.size());  // both parts, one header
   CHECK(run.err.find("split into 2 segments") != std::string::npos);
+}
+
+// Today's files read as before: without recording flags, and with --dt at the file's own step,
+// the trace is the same bytes; generate --output x.mat writes a MATLAB file whose t and a_u are
+// the CSV's doubles.
+TEST(RecordingResampling, TodaysCsvAndMatReadToTheSameTraceAndGenerateWritesARealMat) {
+  TempDir dir;
+  const std::vector<std::string> generate = {"generate",   "--kind", "lorry", "--rms", "1.2",
+                                             "--duration", "5",      "--dt",  "0.001"};
+  for (const char* name : {"lorry.csv", "lorry.mat"}) {
+    std::vector<std::string> arguments = generate;
+    arguments.insert(arguments.end(), {"--output", dir.file(name)});
+    LONGS_EQUAL(0, run_stickslip(arguments).status);
+  }
+  CHECK(stickslip::test::read_text(dir.file("lorry.mat")).rfind("MATLAB 5.0 MAT-file", 0) == 0);
+  const stickslip::host::SampledSignal csv =
+      stickslip::host::read_signal_csv(dir.file("lorry.csv"));
+  const stickslip::host::SampledSignal mat =
+      stickslip::host::read_signal_mat(dir.file("lorry.mat"));
+  LONGS_EQUAL(csv.t_s.size(), mat.t_s.size());
+  for (std::size_t n = 0; n < csv.t_s.size(); ++n) {
+    CHECK(stickslip::test::bit_equal(csv.t_s[n], mat.t_s[n]));
+    CHECK(stickslip::test::bit_equal(csv.a_u_m_per_s2[n], mat.a_u_m_per_s2[n]));
+  }
+  std::vector<std::string> traces;
+  const std::vector<std::vector<std::string>> variants = {
+      {"--input", dir.file("lorry.csv")},
+      {"--input", dir.file("lorry.csv"), "--dt", "0.001"},
+      {"--input", dir.file("lorry.mat")},
+      {"--input", dir.file("lorry.mat"), "--dt", "0.001", "--gaps", "refuse"}};
+  for (const auto& variant : variants) {
+    std::vector<std::string> arguments = {
+        "simulate", "--output", dir.file("out.csv"), "--model", "stick-slip", "--ffk", "40"};
+    arguments.insert(arguments.end(), variant.begin(), variant.end());
+    const auto run = run_stickslip(arguments);
+    LONGS_EQUAL_TEXT(0, run.status, run.err.c_str());
+    STRCMP_EQUAL("", run.err.c_str());  // nothing done to the samples, nothing said
+    traces.push_back(stickslip::test::read_text(dir.file("out.csv")));
+  }
+  for (const std::string& trace : traces) CHECK(trace == traces.front());
 }

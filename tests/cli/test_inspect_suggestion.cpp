@@ -238,3 +238,33 @@ TEST(InspectSuggestion, SimulateDecodesTheVehicleSignalLikeCanmatrix) {
     }
   }
 }
+
+// A logger at its full scale (+-0.06 g here) writes runs of the same extreme value: inspect and
+// simulate count them and say so; the samples are simulated as they are.
+TEST(InspectSuggestion, RunsAtFullScaleAreCountedAndSaid) {
+  TempDir dir;
+  std::string text = "Time [s];AccZ [g]\n";
+  std::vector<double> values;
+  for (int i = 0; i < 2000; ++i) {
+    const double t = i / 500.0;
+    double a = floor_g(t);
+    if (std::fabs(a) > 0.06) a = a > 0 ? 0.06 : -0.06;
+    values.push_back(a);
+    text += comma_decimal(t) + ";" + comma_decimal(a) + "\n";
+  }
+  // Samples in runs of >= 3 at the limits, counted here by their own loop.
+  std::size_t clipped = 0;
+  for (std::size_t i = 0; i < values.size();) {
+    std::size_t end = i;
+    while (end < values.size() && values[end] == values[i]) ++end;
+    if (end - i >= 3 && std::fabs(values[i]) == 0.06) clipped += end - i;
+    i = end;
+  }
+  CHECK(clipped > 0);
+  write_text(dir.file("clipped.csv"), text);
+  const std::string out = inspect_then_simulate(dir, "clipped.csv");
+  const std::string said = std::to_string(clipped) + " samples in runs at the minimum or maximum";
+  CHECK_TEXT(out.find(said) != std::string::npos, out.c_str());
+  CHECK_TEXT(out.find("at full scale " + std::to_string(clipped) + " samples") != std::string::npos,
+             out.c_str());
+}

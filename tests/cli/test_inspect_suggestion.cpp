@@ -268,3 +268,17 @@ TEST(InspectSuggestion, RunsAtFullScaleAreCountedAndSaid) {
   CHECK_TEXT(out.find("at full scale " + std::to_string(clipped) + " samples") != std::string::npos,
              out.c_str());
 }
+
+// A bad file is one line naming the file and its line, exit 1, and no output.
+TEST(InspectSuggestion, TimesThatGoBackAreOneLineNamingTheFileLine) {
+  TempDir dir;
+  write_text(dir.file("back.csv"),
+             "Logger\r\nTime [s];AccZ [g]\r\n0;0,1\r\n\r\n0,002;0,2\r\n"
+             "0,001;0,3\r\n0,004;0,1\r\n");
+  const Shell run = shell(dir.file(""),
+                          "stickslip simulate --input back.csv --signal AccZ "
+                          "--model stick-slip --output out.csv");
+  LONGS_EQUAL(1, run.status);
+  STRCMP_EQUAL("stickslip: back.csv:6: t = 0.001 s does not come after 0.002 s\n", run.out.c_str());
+  CHECK(!stickslip::test::exists(dir.file("out.csv")));
+}

@@ -14,7 +14,8 @@ struct RawSeries {
   std::string unit;            // as the file or --unit names it; empty: m/s^2 assumed
   std::string source;
   std::size_t frames_too_short = 0;
-  bool from_rate = false;  // t made from --rate
+  bool from_rate = false;          // t made from --rate
+  std::vector<std::size_t> lines;  // text: the file's line of each sample (messages name it)
 };
 
 // Text (delimited_text.hpp) or a CAN log with a DBC (can_signal.hpp), as `options` select.

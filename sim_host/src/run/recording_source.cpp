@@ -85,6 +85,7 @@ RawSeries read_text_series(const std::string& path, const RecordingOptions& opti
     throw UsageError(fmt::format("--signal {}: that is the time column of {}", signal->name, path));
   }
   raw.values = signal->values;
+  raw.lines = table.row_lines;
   raw.unit = options.unit.empty() ? signal->unit : options.unit;
   raw.source = fmt::format("text column {}", signal->name);
   if (time == nullptr) {

@@ -12,6 +12,12 @@
 namespace stickslip::host {
 namespace {
 
+// "FILE:LINE: " for text, "FILE: sample N: " otherwise.
+std::string where(const std::string& path, const RawSeries& raw, std::size_t i) {
+  if (i < raw.lines.size()) return fmt::format("{}:{}: ", path, raw.lines[i]);
+  return fmt::format("{}: sample {}: ", path, i + 1);
+}
+
 void check_times(const std::string& path, const RawSeries& raw) {
   if (raw.t_s.size() < 2) {
     throw HostError(fmt::format("{}: {} sample{}; at least 2 are needed", path, raw.t_s.size(),
@@ -19,11 +25,11 @@ void check_times(const std::string& path, const RawSeries& raw) {
   }
   for (std::size_t i = 0; i < raw.t_s.size(); ++i) {
     if (!std::isfinite(raw.values[i]) || !(std::fabs(raw.t_s[i]) <= 1e15)) {
-      throw HostError(fmt::format("{}: sample {} (t = {} s): value {} is not a finite number", path,
-                                  i + 1, raw.t_s[i], raw.values[i]));
+      throw HostError(fmt::format("{}t = {} s, value {}: not a finite number within the time range",
+                                  where(path, raw, i), raw.t_s[i], raw.values[i]));
     }
     if (i > 0 && !(raw.t_s[i] > raw.t_s[i - 1])) {
-      throw HostError(fmt::format("{}: sample {}: t = {} s does not come after {} s", path, i + 1,
+      throw HostError(fmt::format("{}t = {} s does not come after {} s", where(path, raw, i),
                                   raw.t_s[i], raw.t_s[i - 1]));
     }
   }

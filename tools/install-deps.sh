@@ -21,6 +21,8 @@ packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev lib
   # Vector BLF log containers are zlib streams; python-can and canmatrix write and decode the
   # recordings the log and DBC readers are checked against (tools/make-recording-fixtures.py).
   zlib1g-dev python3-can python3-canmatrix
+  # libsoxr: recordings resampled to the model's step (sim_host/src/signals/resample.cpp).
+  libsoxr-dev
   # The Python module (python/) and its tests (tests/python: pytest, pip install into a venv,
   # the matplotlib example).
   python3-dev python3-pybind11 python3-numpy python3-pytest python3-venv python3-matplotlib)

@@ -75,9 +75,11 @@ std::string with_bus_fields(const std::string& stats_json, const std::string& bu
 
 }  // namespace
 
-BusRecording frames_from_csv(const std::string& path) {
-  const SampledSignal signal = read_signal_csv(path);
+BusRecording frames_from_csv(const std::string& path, const RecordingOptions& options) {
+  RecordingReport report;
+  const SampledSignal signal = read_continuous_recording(path, options, "replay", &report);
   BusRecording recording;
+  recording.recording_note = describe_recording(path, report);
   recording.t_s = signal.t_s;
   recording.dt_s = signal.dt_s;
   recording.frames.reserve(signal.a_u_m_per_s2.size());
@@ -105,8 +107,10 @@ BusRecording frames_from_log(const std::string& path, double dt_s) {
   return recording;
 }
 
-BusRecording read_bus_recording(const std::string& path, double log_dt_s) {
-  return ends_with(path, ".log") ? frames_from_log(path, log_dt_s) : frames_from_csv(path);
+BusRecording read_bus_recording(const std::string& path, double log_dt_s,
+                                const RecordingOptions& recording) {
+  return ends_with(path, ".log") && recording.dbc.empty() ? frames_from_log(path, log_dt_s)
+                                                          : frames_from_csv(path, recording);
 }
 
 void write_node_trace(const std::string& path, const NodeTrace& trace,
@@ -153,12 +157,14 @@ void receive_last_outputs(port::Transport& sender, ReplayResult& result) {
 ReplayResult replay_file(const ReplayRequest& request) {
   if (request.output_path.empty()) throw UsageError("--output: required");
   if (request.setup.reference) throw UsageError("--integrator reference: not available for replay");
-  const BusRecording recording = read_bus_recording(request.input_path, request.log_dt_s);
+  const BusRecording recording =
+      read_bus_recording(request.input_path, request.log_dt_s, request.recording);
   SimulationSetup setup = request.setup;
   setup.params.dt_s = recording.dt_s;
 
   ReplayResult result;
   result.bus = request.bus;
+  result.recording_note = recording.recording_note;
   result.input_saturated = recording.saturated;
   EcuNode node(node_config(setup, request.scalar, request.checker, true));  // may throw: first
 

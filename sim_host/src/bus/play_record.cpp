@@ -45,13 +45,15 @@ std::string play_json(const PlayRequest& request, const PlayResult& result) {
 PlayResult play_file(const PlayRequest& request) {
   if (!(request.speed > 0.0) || !std::isfinite(request.speed))
     throw UsageError(fmt::format("--speed: must be a positive factor, got {}", request.speed));
-  const BusRecording recording = read_bus_recording(request.input_path, request.log_dt_s);
+  const BusRecording recording =
+      read_bus_recording(request.input_path, request.log_dt_s, request.recording);
   std::unique_ptr<port::Transport> bus = open_bus(request.bus, "--bus");
   // The sender reads nothing: a filter no frame of the project matches (an extended id), so that
   // the kernel does not queue the whole bus for it.
   const port::ReceiveFilter nothing{can::kExtendedIdMask, can::kExtendedIdMask};
   bus->set_filters(&nothing, 1);
   PlayResult result;
+  result.recording_note = recording.recording_note;
   result.frames = recording.frames.size();
   const double interval_s = recording.dt_s / request.speed;
   // Wakes at most once a millisecond and sends every frame due by then (at 10 kHz a sleep per
@@ -108,9 +110,11 @@ PlayResult play_file(const PlayRequest& request) {
   return result;
 }
 
-std::uint64_t record_log(const RecordRequest& request, std::uint64_t& saturated) {
+std::uint64_t record_log(const RecordRequest& request, std::uint64_t& saturated,
+                         std::string* recording_note) {
   if (request.interface.empty()) throw UsageError("--interface: must not be empty");
-  const BusRecording recording = frames_from_csv(request.input_path);
+  const BusRecording recording = frames_from_csv(request.input_path, request.recording);
+  if (recording_note != nullptr) *recording_note = recording.recording_note;
   std::vector<LoggedFrame> logged;
   logged.reserve(recording.frames.size());
   for (std::size_t n = 0; n < recording.frames.size(); ++n) {

@@ -7,9 +7,9 @@
 
 #include "command.hpp"
 #include "model_options.hpp"
+#include "recording_options.hpp"
 #include "stickslip/host/cli/cli.hpp"
 #include "stickslip/host/error.hpp"
-#include "stickslip/host/io/mat_file.hpp"
 #include "stickslip/host/io/output_file.hpp"
 #include "stickslip/host/run/advise.hpp"
 #include "stickslip/host/run/harmonic_balance.hpp"
@@ -41,15 +41,18 @@ void write_psd_csv(const Spectrum& spectrum, const TargetSpectrum* target,
 class PsdCommand : public Command {
  public:
   void add_options(CLI::App& psd) override {
-    psd.add_option("--input", input_, "recording (CSV t,a_u or .mat)")->required();
+    psd.add_option("--input", input_, "recording (CSV t,a_u, .mat, a logger's text, a CAN log)")
+        ->required();
     psd.add_option("--segment", segment_, "samples per segment, a power of two")
         ->capture_default_str();
     psd.add_option("--target", target_,
                    "also a column `target`: the PSD of this seat-test class (EM1..AG3)");
     psd.add_option("--output", output_, "CSV file to write")->required();
+    recording_.add_to(psd);
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+  int run(CLI::App&, std::ostream& out, std::ostream& err) override {
+    const RecordingOptions recording = recording_.resolve();
     const TargetSpectrum* target = nullptr;
     if (!target_.empty()) {
       target = find_seat_test_spectrum(target_);
@@ -58,7 +61,9 @@ class PsdCommand : public Command {
                          spectrum_kind_names() + " except white)");
       }
     }
-    const SampledSignal signal = read_signal_file(input_);
+    RecordingReport report;
+    const SampledSignal signal = read_continuous_recording(input_, recording, "psd", &report);
+    print_recording_report(err, input_, report);
     const Spectrum spectrum = welch_psd(signal.a_u_m_per_s2, signal.dt_s, segment_);
     write_psd_csv(spectrum, target, output_);
     out << fmt::format("wrote {}: {} frequencies, {} segments\n", output_, spectrum.psd.size(),
@@ -70,6 +75,7 @@ class PsdCommand : public Command {
   std::string input_, output_;
   std::size_t segment_ = 4096;
   std::string target_;
+  RecordingOptionGroup recording_;
 };
 
 class HarmonicBalanceCommand : public Command {
@@ -105,23 +111,31 @@ class AdviseCommand : public Command {
  public:
   void add_options(CLI::App& advise) override {
     OscillatorParams& p = request_.params;
-    advise.add_option("--input", request_.input_path, "recording (CSV t,a_u or .mat)")->required();
+    advise
+        .add_option("--input", request_.input_path,
+                    "recording (CSV t,a_u, .mat, a logger's text, a CAN log with --dbc)")
+        ->required();
     add_seat_options(advise, p.mass_kg, p.stiffness_n_per_m);
     advise.add_option("--damping", p.damping_ns_per_m, "damper b, N s/m")->capture_default_str();
     add_friction_options(advise, p, true);
     advise.add_option("--tolerance", request_.tolerance, "largest relative T_ax error accepted")
         ->capture_default_str();
+    recording_.add_to(advise);
   }
 
-  int run(CLI::App& advise_command, std::ostream& out, std::ostream&) override {
+  int run(CLI::App& advise_command, std::ostream& out, std::ostream& err) override {
     AdviseRequest request = request_;
+    request.recording = recording_.resolve();
     default_static_friction(advise_command, request.params, nullptr);
-    out << format_advice(advise(request));
+    const AdviseReport report = advise(request);
+    if (!report.recording_note.empty()) err << "stickslip: " << report.recording_note << "\n";
+    out << format_advice(report);
     return kExitOk;
   }
 
  private:
   AdviseRequest request_;
+  RecordingOptionGroup recording_;
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "command.hpp"
 #include "model_options.hpp"
+#include "recording_options.hpp"
 #include "stickslip/host/bus/bus_commands.hpp"
 #include "stickslip/host/cli/cli.hpp"
 #include "stickslip/host/error.hpp"
@@ -42,11 +43,15 @@ class ReplayCommand : public Command {
     replay.add_flag("--progress", progress_,
                     "frames sent on stderr once a second (default: on a terminal)");
     model_.add_to(replay, request_.setup, kNodeSceneHelp);
+    recording_.add_to(replay, false, false);
   }
 
   int run(CLI::App& replay, std::ostream& out, std::ostream& err) override {
     ReplayRequest request = request_;
     check_bus_name("--bus", request_.bus);
+    request.recording = recording_.resolve();
+    // --dt of a recording that is no SeatInput log: the node's step, to resample it to.
+    if (given(replay, "--dt")) request.recording.dt_s = request.log_dt_s;
     const ResolvedModel model = model_.resolve(replay, request.setup);
     request.scalar = model.scalar;
     if (model.scene_dt_s() > 0.0 && !given(replay, "--dt")) request.log_dt_s = model.scene_dt_s();
@@ -63,6 +68,7 @@ class ReplayCommand : public Command {
                          : std::string());
     request.progress = bus_progress(progress);
     const ReplayResult result = replay_file(request);
+    if (!result.recording_note.empty()) err << "stickslip: " << result.recording_note << "\n";
     out << fmt::format(
         "replayed {} over {}: {} frames sent, {} samples, {} output frames ({} seen "
         "back), {} input samples saturated\n",
@@ -78,6 +84,7 @@ class ReplayCommand : public Command {
   std::string rate_ = "max";
   bool progress_ = false;
   ModelOptions model_{kBusNodeChoices};
+  RecordingOptionGroup recording_;
 };
 
 class EcuCommand : public Command {

@@ -5,6 +5,7 @@
 #include <ostream>
 
 #include "command.hpp"
+#include "recording_options.hpp"
 #include "stickslip/host/bus/bus_commands.hpp"
 #include "stickslip/host/cli/cli.hpp"
 #include "stop_signals.hpp"
@@ -15,15 +16,20 @@ namespace {
 class RecordCommand : public Command {
  public:
   void add_options(CLI::App& record) override {
-    record.add_option("--input", request_.input_path, "CSV with columns t and a_u")->required();
+    record.add_option("--input", request_.input_path, "recording as simulate reads it")->required();
     record.add_option("--output", request_.output_path, "candump log to write")->required();
     record.add_option("--interface", request_.interface, "interface name in the log")
         ->capture_default_str();
+    recording_.add_to(record);
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+  int run(CLI::App&, std::ostream& out, std::ostream& err) override {
+    RecordRequest request = request_;
+    request.recording = recording_.resolve();
     std::uint64_t saturated = 0;
-    const std::uint64_t frames = record_log(request_, saturated);
+    std::string note;
+    const std::uint64_t frames = record_log(request, saturated, &note);
+    if (!note.empty()) err << "stickslip: " << note << "\n";
     out << fmt::format("wrote {}: {} SeatInput frames on {}, {} samples saturated\n",
                        request_.output_path, frames, request_.interface, saturated);
     return kExitOk;
@@ -31,6 +37,7 @@ class RecordCommand : public Command {
 
  private:
   RecordRequest request_;
+  RecordingOptionGroup recording_;
 };
 
 class PlayCommand : public Command {
@@ -45,11 +52,13 @@ class PlayCommand : public Command {
         ->capture_default_str();
     play.add_flag("--progress", progress_,
                   "frames sent on stderr once a second (default: on a terminal)");
+    recording_.add_to(play, false);
   }
 
   int run(CLI::App&, std::ostream& out, std::ostream& err) override {
     PlayRequest request = request_;
     check_bus_name("--bus", request_.bus);
+    request.recording = recording_.resolve();
     const StopOnSignals signals;
     request.stop = &stop_requested;
     std::function<void(std::uint64_t, std::uint64_t)> progress = make_frame_progress(
@@ -58,6 +67,7 @@ class PlayCommand : public Command {
                     request.input_path, request.bus, request.speed));
     request.progress = bus_progress(progress);
     const PlayResult result = play_file(request);
+    if (!result.recording_note.empty()) err << "stickslip: " << result.recording_note << "\n";
     out << fmt::format(
         "played {} on {} at {}x: {} of {} frames sent, {} not sent ({} interface "
         "down, {} buffer full, {} other)\n",
@@ -70,6 +80,7 @@ class PlayCommand : public Command {
  private:
   PlayRequest request_;
   bool progress_ = false;
+  RecordingOptionGroup recording_;
 };
 
 }  // namespace

@@ -74,6 +74,10 @@ const struct Subcommand {
      "For a recording and seat: a0u, K, p and T_ax of the cheap model against stick-slip, and the "
      "cheapest model/integrator whose T_ax error stays within the tolerance at its dt",
      make_advise_command},
+    {"inspect",
+     "What a recording holds (channels or CAN signals, units, rate, jitter, gaps, full-scale "
+     "runs, NaNs) and the simulate command that reads it",
+     make_inspect_command},
 };
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {

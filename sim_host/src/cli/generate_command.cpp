@@ -1,17 +1,26 @@
 // stickslip generate: a synthetic recording (signal_generator.hpp, seat_test_spectra.hpp).
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 #include <ostream>
 
 #include "command.hpp"
 #include "stickslip/host/cli/cli.hpp"
 #include "stickslip/host/error.hpp"
+#include "stickslip/host/io/mat_file.hpp"
 #include "stickslip/host/signals/seat_test_spectra.hpp"
 #include "stickslip/host/signals/signal_generator.hpp"
 
 namespace stickslip::host {
 namespace {
+
+bool is_mat_path(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string tail = path.substr(path.size() - 4);
+  for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return tail == ".mat";
+}
 
 class GenerateCommand : public Command {
  public:
@@ -37,7 +46,9 @@ class GenerateCommand : public Command {
         ->capture_default_str();
     generate.add_option("--frequency", generator_.frequency_hz,
                         "Hz, harmonic only (ignored by the other kinds)");
-    generate.add_option("--output", output_, "CSV file to write")->required();
+    generate
+        .add_option("--output", output_, "CSV file to write (.mat: a MATLAB file of t and a_u)")
+        ->required();
   }
 
   int run(CLI::App& generate, std::ostream& out, std::ostream&) override {
@@ -55,7 +66,19 @@ class GenerateCommand : public Command {
                        "' (expected wideband, lorry, harmonic or one of " + spectrum_kind_names() +
                        ")");
     }
-    const std::uint64_t rows = write_generated_csv(spec, output_);
+    std::uint64_t rows = 0;
+    if (is_mat_path(output_)) {
+      SampledSignal signal;
+      host::generate(spec, [&](std::uint64_t, double t_s, double a_u) {
+        signal.t_s.push_back(t_s);
+        signal.a_u_m_per_s2.push_back(a_u);
+      });
+      signal.dt_s = spec.dt_s;
+      write_signal_mat(output_, signal);
+      rows = signal.t_s.size();
+    } else {
+      rows = write_generated_csv(spec, output_);
+    }
     out << fmt::format("wrote {}: {} {} samples, dt = {} s, rms {} m/s^2{}\n", output_, rows,
                        signal_kind_name(spec.kind), spec.dt_s, spec.rms_m_per_s2,
                        spec.kind == SignalKind::harmonic ? fmt::format(", {} Hz", spec.frequency_hz)
@@ -90,7 +113,18 @@ class GenerateCommand : public Command {
     spec.seed = generator_.seed;
     validate(spec);
     const double rms = requested_rms(spec);
-    const std::uint64_t rows = write_spectrum_csv(spec, output_);
+    std::uint64_t rows = 0;
+    if (is_mat_path(output_)) {
+      SampledSignal signal;
+      signal.a_u_m_per_s2 = generate_spectrum_signal(spec);
+      signal.dt_s = spec.dt_s;
+      for (std::size_t n = 0; n < signal.a_u_m_per_s2.size(); ++n)
+        signal.t_s.push_back(static_cast<double>(n) * spec.dt_s);  // as the CSV writes t
+      write_signal_mat(output_, signal);
+      rows = signal.t_s.size();
+    } else {
+      rows = write_spectrum_csv(spec, output_);
+    }
     out << fmt::format("wrote {}: {} {} samples, dt = {} s, {} {} m/s^2, seed {}\n", output_, rows,
                        spec.spectrum.name, spec.dt_s,
                        spec.rms_m_per_s2 > 0.0 ? "rms" : "the standard's PSD, expected rms", rms,

@@ -3,6 +3,7 @@
 
 #include "command.hpp"
 #include "model_options.hpp"
+#include "recording_options.hpp"
 #include "stage_progress.hpp"
 #include "stickslip/host/cli/cli.hpp"
 #include "stickslip/host/run/simulate_file.hpp"
@@ -15,7 +16,7 @@ class SimulateCommand : public Command {
   void add_options(CLI::App& simulate) override {
     simulate
         .add_option("--input", request_.input_path,
-                    "CSV with columns t (uniform, s) and a_u (m/s^2)")
+                    "recording: CSV t,a_u, a logger's text, .mat, or a CAN log with --dbc")
         ->required();
     simulate.add_option("--output", request_.output_path, "CSV file to write")->required();
     simulate.add_option("--stats", request_.stats_path, "also write the statistics JSON here");
@@ -29,10 +30,12 @@ class SimulateCommand : public Command {
     simulate.add_flag("--progress", progress_,
                       "print each stage on stderr (on a terminal: the stage still running once "
                       "the run takes over 2 s)");
+    recording_.add_to(simulate);
   }
 
   int run(CLI::App& simulate, std::ostream& out, std::ostream& err) override {
     SimulateRequest request = request_;
+    request.recording = recording_.resolve();
     const ResolvedModel model = model_.resolve(simulate, request.setup);
     request.scalar = model.scalar;
     // simulate_file() checks the scene's sample rate against the recording's.
@@ -44,6 +47,7 @@ class SimulateCommand : public Command {
       request.on_stage = [&progress](const std::string& stage) { progress.begin(stage); };
       result = simulate_file(request);
     }
+    print_recording_report(err, request.input_path, result.recording);
     out << result.stats_json << "\n";  // the last line of stdout, for tools
     return kExitOk;
   }
@@ -52,6 +56,7 @@ class SimulateCommand : public Command {
   SimulateRequest request_;
   ModelOptions model_{kSimulateChoices};
   bool progress_ = false;
+  RecordingOptionGroup recording_;
 };
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "command.hpp"
 #include "model_options.hpp"
+#include "recording_options.hpp"
 #include "stickslip/host/cli/cli.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/run/sweep.hpp"
@@ -45,7 +46,10 @@ void parse_shard(const std::string& text, SweepRequest& request) {
 class SweepCommand : public Command {
  public:
   void add_options(CLI::App& sweep) override {
-    sweep.add_option("--input", request_.inputs, "recording (CSV t,a_u or .mat); repeat for more")
+    sweep
+        .add_option("--input", request_.inputs,
+                    "recording (CSV t,a_u, .mat, a logger's text, a CAN log with --dbc); repeat "
+                    "for more")
         ->required();
     sweep
         .add_option("--method", methods_,
@@ -74,6 +78,7 @@ class SweepCommand : public Command {
     sweep.add_flag("--no-batch", no_batch_, "step every point alone (same results, slower)");
     sweep.add_flag("--quiet", quiet_, "no progress on stderr");
     sweep.add_option("--output", output_, "CSV file to write")->required();
+    recording_.add_to(sweep);
   }
 
   int run(CLI::App&, std::ostream& out, std::ostream& err) override {
@@ -87,6 +92,7 @@ class SweepCommand : public Command {
       if (report) report(done, total);
     };
     const SweepSummary s = run_sweep(request, output_, progress);
+    for (const std::string& note : s.recording_notes) err << "stickslip: " << note << "\n";
     out << fmt::format(
         "wrote {}: {} of {} points, {} steps in {:.3f} s on {} thread{} ({:.1f} Msteps/s)\n",
         output_, s.points_run, s.points_total, s.samples, s.seconds, s.threads,
@@ -119,6 +125,7 @@ class SweepCommand : public Command {
       request.shard_file = true;
     }
     request.batch = !no_batch_;
+    request.recording = recording_.resolve();
     return request;
   }
 
@@ -128,6 +135,7 @@ class SweepCommand : public Command {
   std::string vary_ = "friction";
   std::string shard_;
   std::string output_;
+  RecordingOptionGroup recording_;
   bool no_batch_ = false;
   bool quiet_ = false;
 };

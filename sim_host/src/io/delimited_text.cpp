@@ -216,8 +216,10 @@ DelimitedTable parse_delimited_text(std::string_view bytes, const std::string& p
     break;
   }
   for (TextChannel& channel : table.channels) channel.values.reserve(best.rows);
+  table.row_lines.reserve(best.rows);
   for (std::size_t index = best.first_data; index < lines.size(); ++index) {
     if (text::trim(lines[index]).empty()) continue;
+    table.row_lines.push_back(index + 1);
     const std::vector<std::string_view> cells = split(lines[index], layout.separator);
     for (std::size_t column = 0; column < cells.size(); ++column) {
       double value = 0.0;

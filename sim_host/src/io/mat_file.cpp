@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 
 #include "stickslip/host/error.hpp"
@@ -149,8 +150,11 @@ SampledSignal read_signal_mat(const std::string& path) {
   return signal;
 }
 
-void write_signal_mat(const std::string& path, const SampledSignal& signal) {
-  MatFile file(Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5));
+namespace {
+
+void write_mat_variables(const std::string& path, const std::string& temporary,
+                         const SampledSignal& signal) {
+  MatFile file(Mat_CreateVer(temporary.c_str(), nullptr, MAT_FT_MAT5));
   if (!file) throw HostError(path + ": cannot create the .mat file");
   const auto write = [&](const char* name, const std::vector<double>& values) {
     std::size_t dims[2] = {values.size(), 1};
@@ -163,6 +167,24 @@ void write_signal_mat(const std::string& path, const SampledSignal& signal) {
   };
   write("t", signal.t_s);
   write("a_u", signal.a_u_m_per_s2);
+}
+
+}  // namespace
+
+void write_signal_mat(const std::string& path, const SampledSignal& signal) {
+  // Written beside the target and renamed over it: a failure leaves neither a partial file nor a
+  // changed one.
+  const std::string temporary = path + ".partial";
+  try {
+    write_mat_variables(path, temporary, signal);
+  } catch (...) {
+    std::remove(temporary.c_str());
+    throw;
+  }
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    std::remove(temporary.c_str());
+    throw HostError(path + ": cannot write the .mat file (rename failed)");
+  }
 }
 
 SampledSignal read_signal_file(const std::string& path) {

@@ -50,8 +50,11 @@ AdviseReport advise(const AdviseRequest& request) {
     throw UsageError(fmt::format("--tolerance: must be > 0, got {}", request.tolerance));
   if (!(request.params.kinetic_friction_n >= 0.0))
     throw UsageError(fmt::format("--ffk: must be >= 0, got {}", request.params.kinetic_friction_n));
-  const SampledSignal signal = read_signal_file(request.input_path);
+  RecordingReport recording;
+  const SampledSignal signal =
+      read_continuous_recording(request.input_path, request.recording, "advise", &recording);
   AdviseReport report;
+  report.recording_note = describe_recording(request.input_path, recording);
   report.input_path = request.input_path;
   report.dt_s = signal.dt_s;
   report.tolerance = request.tolerance;

@@ -20,7 +20,9 @@
 #include "stickslip/host/io/mat_file.hpp"
 #include "stickslip/host/io/output_file.hpp"
 #include "stickslip/host/io/trace_csv.hpp"
+#include "stickslip/host/run/recording_source.hpp"
 #include "stickslip/host/run/stats_json.hpp"
+#include "stickslip/metrics/den_hartog.hpp"
 
 namespace stickslip::host {
 namespace {
@@ -68,8 +70,9 @@ const char* option_for(const std::string& parameter) {
 }
 
 template <typename T>
-void write_trace(CsvWriter& writer, const SampledSignal& signal, const SimulationTrace<T>& trace) {
-  TraceCsvWriter csv(writer);
+void write_trace(CsvWriter& writer, const SampledSignal& signal, const SimulationTrace<T>& trace,
+                 bool header) {
+  TraceCsvWriter csv(writer, header);
   const std::size_t count = signal.t_s.size();
   for (std::size_t n = 0; n < count; ++n) {
     // t and a_u echo the input exactly
@@ -87,7 +90,7 @@ void report(const SimulateRequest& request, const std::string& stage) {
 template <typename T>
 SimulationSummary run_and_write(const SimulateRequest& request, const SimulationSetup& setup,
                                 const SampledSignal& signal, const std::vector<T>& a_u,
-                                CsvWriter& writer) {
+                                CsvWriter& writer, bool header) {
   SimulationTrace<T> trace;
   SimulationSummary summary;
   try {
@@ -98,7 +101,7 @@ SimulationSummary run_and_write(const SimulateRequest& request, const Simulation
   }
   add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
   report(request, "writing " + request.output_path);
-  write_trace(writer, signal, trace);
+  write_trace(writer, signal, trace, header);
   return summary;
 }
 
@@ -139,7 +142,7 @@ void check_request(const SimulateRequest& request) {
 
 // The loop in the request's scalar type, its trace into `writer`.
 SimulationSummary run_in_scalar(const SimulateRequest& request, const SimulationSetup& setup,
-                                const SampledSignal& signal, CsvWriter& writer) {
+                                const SampledSignal& signal, CsvWriter& writer, bool header) {
   SimulationSummary summary;
   if (request.scalar == ScalarType::fixed || request.scalar == ScalarType::fixed32) {
     SimulationTrace<double> trace;
@@ -153,7 +156,7 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
                                 !request.scene_path.empty());
     }
     report(request, "writing " + request.output_path);
-    write_trace(writer, signal, trace);
+    write_trace(writer, signal, trace, header);
   } else if (request.scalar == ScalarType::float32) {
     // Converted once, before the loop: the float run sees only floats (and only finite ones).
     for (std::size_t n = 0; n < signal.a_u_m_per_s2.size(); ++n) {
@@ -165,11 +168,60 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
       }
     }
     const std::vector<float> a_u(signal.a_u_m_per_s2.begin(), signal.a_u_m_per_s2.end());
-    summary = run_and_write(request, setup, signal, a_u, writer);
+    summary = run_and_write(request, setup, signal, a_u, writer, header);
   } else {
-    summary = run_and_write(request, setup, signal, signal.a_u_m_per_s2, writer);
+    summary = run_and_write(request, setup, signal, signal.a_u_m_per_s2, writer, header);
   }
   return summary;
+}
+
+// The parts of a --gaps split run as one: RMS values weighted by samples, p by steps (each part
+// starts from the initial state). Ride comfort needs one continuous trace, so it is left out.
+SimulationSummary combine_parts(const std::vector<SimulationSummary>& parts,
+                                const SimulationSetup& setup) {
+  SimulationSummary all = parts.front();
+  double u2 = 0.0, x2 = 0.0, stuck = 0.0;
+  all.samples = all.steps = all.events = all.rejected_inputs = 0;
+  all.event_budget_exhausted = all.state_resets = all.saturated_steps = 0;
+  for (const SimulationSummary& part : parts) {
+    all.samples += part.samples;
+    all.steps += part.steps;
+    all.events += part.events;
+    all.rejected_inputs += part.rejected_inputs;
+    all.event_budget_exhausted += part.event_budget_exhausted;
+    all.state_resets += part.state_resets;
+    all.saturated_steps += part.saturated_steps;
+    u2 += static_cast<double>(part.samples) * part.rms_u * part.rms_u;
+    x2 += static_cast<double>(part.samples) * part.rms_x * part.rms_x;
+    stuck += static_cast<double>(part.steps) * part.stick_probability;
+  }
+  all.rms_u = std::sqrt(u2 / static_cast<double>(all.samples));
+  all.rms_x = std::sqrt(x2 / static_cast<double>(all.samples));
+  all.transmissibility = all.rms_x / all.rms_u;
+  all.stick_probability = stuck / static_cast<double>(all.steps);
+  all.den_hartog_k =
+      den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, all.rms_u);
+  all.comfort = false;
+  return all;
+}
+
+// "recording": what reading did to the samples; "segments": each part of a split run.
+std::string with_recording_fields(const std::string& stats_json, const LoadedRecording& recording,
+                                  const std::vector<SimulationSummary>& parts) {
+  auto json = nlohmann::ordered_json::parse(stats_json);
+  json["recording"] = nlohmann::ordered_json::parse(recording_report_json(recording.report));
+  if (parts.size() > 1) {
+    auto& segments = json["segments"] = nlohmann::ordered_json::array();
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      nlohmann::ordered_json part;
+      part["t_start_s"] = recording.segments[i].t_s.front();
+      part["samples"] = parts[i].samples;
+      part["T_ax"] = parts[i].transmissibility;
+      part["p_stick"] = parts[i].stick_probability;
+      segments.push_back(part);
+    }
+  }
+  return json.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
 }  // namespace
@@ -177,15 +229,17 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
 SimulateResult simulate_file(const SimulateRequest& request) {
   check_request(request);
   report(request, "reading " + request.input_path);
-  const SampledSignal signal = read_signal_file(request.input_path);  // CSV or .mat
+  // CSV, .mat, a logger's text or a CAN log, on the model's step (recording_source.hpp).
+  const LoadedRecording recording = read_recording(request.input_path, request.recording);
+  const double dt_s = recording.segments.front().dt_s;
   if (request.scene_dt_s > 0.0 &&
-      std::fabs(signal.dt_s - request.scene_dt_s) > 1e-9 * request.scene_dt_s) {
+      std::fabs(dt_s - request.scene_dt_s) > 1e-9 * request.scene_dt_s) {
     throw HostError(fmt::format(
         "{}: dt = {} s, but the scene {} has sample_rate_hz = {} (dt = {} s)", request.input_path,
-        signal.dt_s, request.scene_path, 1.0 / request.scene_dt_s, request.scene_dt_s));
+        dt_s, request.scene_path, 1.0 / request.scene_dt_s, request.scene_dt_s));
   }
   SimulationSetup setup = request.setup;
-  setup.params.dt_s = signal.dt_s;
+  setup.params.dt_s = dt_s;
 
   // Temporaries first: a bad output path fails before the work; any later failure removes them.
   AtomicOutputFile output(request.output_path);
@@ -194,11 +248,20 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   CsvWriter writer(output);
 
   SimulateResult result;
-  report(request, fmt::format("simulating {} samples", signal.a_u_m_per_s2.size()));
-  result.summary = run_in_scalar(request, setup, signal, writer);
+  result.recording = recording.report;
+  std::size_t samples = 0;
+  for (const SampledSignal& segment : recording.segments) samples += segment.a_u_m_per_s2.size();
+  report(request, fmt::format("simulating {} samples", samples));
+  std::vector<SimulationSummary> parts;
+  for (const SampledSignal& segment : recording.segments)
+    parts.push_back(run_in_scalar(request, setup, segment, writer, parts.empty()));
+  result.summary = parts.size() == 1 ? parts.front() : combine_parts(parts, setup);
   result.stats_json = format_stats_json(
       result.summary,
       StatsContext{&setup, request.scalar, request.input_path, request.output_path});
+  if (!request.recording.defaults()) {
+    result.stats_json = with_recording_fields(result.stats_json, recording, parts);
+  }
   if (setup.reference) {
     // The core's Integrator has no 'reference': name the solver that ran.
     auto json = nlohmann::ordered_json::parse(result.stats_json);

@@ -101,12 +101,15 @@ void validate(const SweepRequest& r) {
         fmt::format("--shard: need 1 <= I <= N, got {}/{}", r.shard_index, r.shard_count));
 }
 
-std::vector<Recording> load(const SweepRequest& r) {
+std::vector<Recording> load(const SweepRequest& r, std::vector<std::string>& notes) {
   std::vector<Recording> recordings;
   for (const std::string& path : r.inputs) {
     Recording recording;
     recording.name = path;
-    recording.signal = read_signal_file(path);
+    RecordingReport report;
+    recording.signal = read_continuous_recording(path, r.recording, "sweep", &report);
+    const std::string note = describe_recording(path, report);
+    if (!note.empty()) notes.push_back(note);
     recording.a0u = rms_of(recording.signal.a_u_m_per_s2);
     if (!(recording.a0u > 0.0)) throw HostError(path + ": a_u is zero throughout; K is undefined");
     recordings.push_back(std::move(recording));
@@ -291,12 +294,13 @@ struct Prepared {
   std::vector<Point> points;
   std::vector<const Point*> shard;
   std::uint64_t config_hash = 0;
+  std::vector<std::string> recording_notes;
 };
 
 Prepared prepare(const SweepRequest& request) {
   validate(request);
   Prepared prepared;
-  prepared.recordings = load(request);
+  prepared.recordings = load(request, prepared.recording_notes);
   prepared.points = all_points(request, prepared.recordings, prepared.config_hash);
   for (const Point& p : prepared.points) {
     if (p.index % request.shard_count == request.shard_index - 1) prepared.shard.push_back(&p);
@@ -431,6 +435,7 @@ SweepSummary run_sweep(const SweepRequest& request, const std::string& output_pa
   if (progress) progress(0, prepared.shard.size());  // as in compute_sweep
   AtomicOutputFile file(output_path);                // a bad path fails before the work
   SweepSummary summary;
+  summary.recording_notes = prepared.recording_notes;
   const std::vector<SweepRow> rows = execute(request, prepared, summary, progress);
   CsvWriter writer(file);
   if (request.shard_count > 1 || request.shard_file) {

@@ -12,6 +12,7 @@
 #include "stickslip/can/receive_checker.hpp"
 #include "stickslip/host/bus/ecu_node.hpp"
 #include "stickslip/host/io/candump_log.hpp"
+#include "stickslip/host/run/recording_source.hpp"
 #include "stickslip/host/run/simulation.hpp"
 #include "stickslip/port/transport.hpp"
 
@@ -23,14 +24,18 @@ struct BusRecording {
   std::vector<double> t_s;         // time of sample n (CSV: the file's t; log: n * dt)
   double dt_s = 0.0;               // the node's sample interval
   std::uint64_t saturated = 0;     // samples clipped by the encoder (CSV input)
+  std::string recording_note;      // what reading did to the samples (recording_source.hpp)
 };
 
-// CSV (t,a_u as simulate reads it): one SeatInput frame per sample, counter = n mod 2^16.
-BusRecording frames_from_csv(const std::string& path);
+// A recording as simulate reads it (recording_source.hpp): one SeatInput frame per sample,
+// counter = n mod 2^16.
+BusRecording frames_from_csv(const std::string& path, const RecordingOptions& recording = {});
 // candump log (by read_candump_log): every frame as logged, whatever it is; dt_s given.
 BusRecording frames_from_log(const std::string& path, double dt_s);
-// By extension: ".log" is a candump log, anything else CSV.
-BusRecording read_bus_recording(const std::string& path, double log_dt_s);
+// By extension: ".log" without --dbc is a candump log of SeatInput frames, anything else a
+// recording as simulate reads it.
+BusRecording read_bus_recording(const std::string& path, double log_dt_s,
+                                const RecordingOptions& recording = {});
 
 // Called after every frame with the frames done so far and the total (0: open-ended, as ecu
 // without --frames); the caller limits how often it prints. A plain function and its context,
@@ -44,6 +49,7 @@ struct BusProgress {
 
 struct ReplayRequest {
   std::string input_path;
+  RecordingOptions recording;  // which signal of the input, its unit, gaps, the model's step
   std::string bus = "loopback";
   SimulationSetup setup;  // dt_s from the input
   ScalarType scalar = ScalarType::float64;
@@ -58,6 +64,7 @@ struct ReplayRequest {
 
 struct ReplayResult {
   std::string bus;
+  std::string recording_note;  // what reading did to the samples, if anything
   SimulationSummary summary;
   can::FaultCounters faults;
   port::TransportCounters sender;
@@ -118,6 +125,7 @@ void write_sample_index(const std::string& path, const NodeTrace& trace);
 
 struct PlayRequest {
   std::string input_path;  // CSV (t,a_u) or candump log, as replay reads it
+  RecordingOptions recording;
   std::string bus;
   double speed = 1.0;      // frame i goes out at i * dt / speed after the start
   double log_dt_s = 1e-3;  // sample interval of a candump-log input
@@ -126,6 +134,7 @@ struct PlayRequest {
 };
 
 struct PlayResult {
+  std::string recording_note;   // what reading did to the samples, if anything
   std::uint64_t frames = 0;     // in the recording
   std::uint64_t attempted = 0;  // frames whose time came (all, unless stopped)
   std::uint64_t sent = 0;       // accepted by the bus
@@ -143,12 +152,14 @@ PlayResult play_file(const PlayRequest& request);
 
 struct RecordRequest {
   std::string input_path;
+  RecordingOptions recording;
   std::string output_path;
   std::string interface = "vcan0";
 };
 
 // Returns the number of frames written and sets `saturated` to the clipped samples.
-std::uint64_t record_log(const RecordRequest& request, std::uint64_t& saturated);
+std::uint64_t record_log(const RecordRequest& request, std::uint64_t& saturated,
+                         std::string* recording_note = nullptr);
 
 // Writes the node's trace as simulate writes its output: t from `t_s` (index beyond it:
 // t_s[0] + index * dt_s), then a_u, x_r, v_r, a_x, f_f, stuck.

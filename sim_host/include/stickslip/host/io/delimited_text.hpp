@@ -23,8 +23,9 @@ struct DelimitedTable {
   std::string path;
   char separator = ',';  // ',', ';', '\t', or ' ' for runs of blanks
   char decimal_mark = '.';
-  std::size_t header_line = 0;      // 1-based; 0 when the file has no header
-  std::size_t first_data_line = 0;  // 1-based
+  std::size_t header_line = 0;         // 1-based; 0 when the file has no header
+  std::size_t first_data_line = 0;     // 1-based
+  std::vector<std::size_t> row_lines;  // the 1-based line of each row (blank lines are skipped)
   std::vector<TextChannel> channels;
 
   // By name (exact, then ignoring ASCII case) or by 1-based index ("2"); throws a HostError

@@ -24,7 +24,9 @@ struct TraceRow {
 // (the caller commits it).
 class TraceCsvWriter {
  public:
-  explicit TraceCsvWriter(CsvWriter& writer) : writer_(writer) {
+  // `header` false: more rows of a trace whose header is written (the parts of a split run).
+  explicit TraceCsvWriter(CsvWriter& writer, bool header = true) : writer_(writer) {
+    if (!header) return;
     writer_.text(kTraceCsvHeader);
     writer_.text("\n");
   }

@@ -10,11 +10,13 @@
 #include <vector>
 
 #include "stickslip/core/params.hpp"
+#include "stickslip/host/run/recording_source.hpp"
 
 namespace stickslip::host {
 
 struct AdviseRequest {
   std::string input_path;
+  RecordingOptions recording;
   OscillatorParams params;  // model, integrator and dt are set per candidate
   double tolerance = 0.01;
   int repetitions = 3;  // timed runs per candidate
@@ -34,6 +36,7 @@ struct AdviseCandidate {
 
 struct AdviseReport {
   std::string input_path;
+  std::string recording_note;  // what reading did to the samples, if anything
   double dt_s = 0.0;
   double a0u = 0.0;
   double k = 0.0;

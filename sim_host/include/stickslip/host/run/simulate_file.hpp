@@ -4,6 +4,7 @@
 #include <functional>
 #include <string>
 
+#include "stickslip/host/run/recording_source.hpp"
 #include "stickslip/host/run/simulation.hpp"
 
 namespace stickslip::host {
@@ -16,16 +17,18 @@ struct SimulateRequest {
   std::string input_path;
   std::string output_path;
   std::string stats_path;  // empty: no stats file
-  SimulationSetup setup;   // dt_s is taken from the input file
+  SimulationSetup setup;   // dt_s is taken from the recording (or --dt)
   ScalarType scalar = ScalarType::float64;
   std::string scene_path;   // --scene: checked against the input's dt when it names a sample rate
   double scene_dt_s = 0.0;  // 0: the scene names no sample rate
   StageReport on_stage;
+  RecordingOptions recording;  // which signal, unit, gaps, and the model's step
 };
 
 struct SimulateResult {
   SimulationSummary summary;
   std::string stats_json;  // one line, no newline
+  RecordingReport recording;
 };
 
 // Reads the input, simulates, writes OUT.csv (and the stats file) atomically. Throws HostError

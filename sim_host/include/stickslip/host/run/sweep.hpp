@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "stickslip/core/params.hpp"
+#include "stickslip/host/run/recording_source.hpp"
 
 namespace stickslip::host {
 
@@ -33,7 +34,8 @@ SweepMethod parse_sweep_method(const std::string& text);
 std::string sweep_method_name(const SweepMethod& method);
 
 struct SweepRequest {
-  std::vector<std::string> inputs;  // CSV or .mat recordings (t, a_u)
+  std::vector<std::string> inputs;  // recordings, read as `recording` says
+  RecordingOptions recording;
   std::vector<SweepMethod> methods;
   std::vector<double> damping_ns_per_m;
   std::vector<double> k_values;
@@ -82,6 +84,7 @@ struct SweepSummary {
   std::uint64_t samples = 0;       // simulated steps, all points of this run
   double seconds = 0.0;
   unsigned threads = 0;
+  std::vector<std::string> recording_notes;  // what reading did to each input (if anything)
 };
 
 // Validates (UsageError naming the option), loads the inputs, runs this shard's points on the

@@ -1,0 +1,39 @@
+// Private to recording_source: one signal of a file as read, before gaps and resampling.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "stickslip/host/run/recording_source.hpp"
+
+namespace stickslip::host {
+
+struct RawSeries {
+  std::vector<double> t_s;
+  std::vector<double> values;  // in the file's unit
+  std::string unit;            // as the file or --unit names it; empty: m/s^2 assumed
+  std::string source;
+  std::size_t frames_too_short = 0;
+  bool from_rate = false;          // t made from --rate
+  std::vector<std::size_t> lines;  // text: the file's line of each sample (messages name it)
+};
+
+// Text (delimited_text.hpp) or a CAN log with a DBC (can_signal.hpp), as `options` select.
+RawSeries read_raw_series(const std::string& path, const RecordingOptions& options);
+
+// The median of the steps t[i] - t[i-1] (t.size() >= 2).
+double median_step(const std::vector<double>& t);
+// The nominal step: the mean of the steps that are no gap (<= kGapSteps medians). The median
+// alone is biased where times are quantized, as candump's seconds since the epoch are in a
+// double (steps of 0.002 s come out as 8388 or 8389 ulps of 2.4e-7 s); the mean is not.
+double nominal_step(const std::vector<double>& t);
+// Samples in runs of at least 3 equal values at the minimum or maximum (full scale).
+std::size_t clipped_samples(const std::vector<double>& values);
+
+// Checks the times, finds gaps and jitter, converts the unit, and puts every segment on the
+// model's step as `options` say; fills `report`.
+std::vector<SampledSignal> condition_series(const std::string& path, RawSeries raw,
+                                            const RecordingOptions& options,
+                                            RecordingReport& report);
+
+}  // namespace stickslip::host

@@ -1,0 +1,209 @@
+// A recording at another rate, with jittered times, put on the model's step
+// (run/recording_source.hpp): one continuous band-limited signal - a sum of sines below 100 Hz -
+// sampled twice, at 500 Hz with every instant moved by up to +-3 % of the step, and at 1 kHz on
+// the exact grid. The first, read with --dt 0.001 (cubic spline onto the 500 Hz grid, then
+// libsoxr to 1 kHz), must give the second's T_ax within 0.1 % and p within 0.005.
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "stickslip/host/io/csv_reader.hpp"
+#include "stickslip/host/io/mat_file.hpp"
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
+// Last: CppUTest redefines `new` for its leak detection.
+#include "CppUTest/TestHarness.h"
+
+using stickslip::test::column;
+using stickslip::test::read_table;
+using stickslip::test::run_stickslip;
+using stickslip::test::TempDir;
+using stickslip::test::write_text;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Amplitudes falling with frequency, as a vehicle floor's do; the highest line at 97.1 Hz.
+struct Line {
+  double amplitude_m_per_s2, frequency_hz, phase;
+};
+constexpr Line kLines[] = {{0.8, 1.3, 0.1},   {0.6, 2.9, 1.7},   {0.5, 4.7, 2.2},
+                           {0.35, 8.3, 0.6},  {0.25, 13.1, 4.0}, {0.15, 21.7, 3.1},
+                           {0.08, 37.9, 5.2}, {0.04, 61.3, 0.9}, {0.02, 97.1, 2.6}};
+
+double floor_signal(double t_s) {
+  double sum = 0.0;
+  for (const Line& line : kLines)
+    sum += line.amplitude_m_per_s2 * std::sin(2.0 * kPi * line.frequency_hz * t_s + line.phase);
+  return sum;
+}
+
+// The spline's error bound for this signal: (5/384) h^4 max|f''''|, h the longest step.
+double spline_error_bound(double h_s) {
+  double fourth = 0.0;
+  for (const Line& line : kLines)
+    fourth += line.amplitude_m_per_s2 * std::pow(2.0 * kPi * line.frequency_hz, 4.0);
+  return 5.0 / 384.0 * std::pow(h_s, 4.0) * fourth;
+}
+
+std::string csv_row(double t, double a) {
+  char row[64];
+  std::snprintf(row, sizeof row, "%.17g,%.17g\n", t, a);
+  return row;
+}
+
+constexpr double kDurationS = 60.0;
+
+// Writes the jittered 500 Hz file; returns its longest step.
+double write_jittered(const std::string& path) {
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;  // a fixed LCG: the same file on every machine
+  std::string text = "t,a_u\n";
+  double previous = 0.0, longest = 0.0;
+  const auto count = static_cast<std::size_t>(kDurationS * 500.0) + 1;
+  for (std::size_t i = 0; i < count; ++i) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    const double unit = static_cast<double>(state >> 11) * 0x1.0p-53 * 2.0 - 1.0;  // [-1, 1)
+    const double t = i == 0 ? 0.0 : static_cast<double>(i) * 0.002 + unit * 0.03 * 0.002;
+    if (i > 0) longest = std::max(longest, t - previous);
+    previous = t;
+    text += csv_row(t, floor_signal(t));
+  }
+  write_text(path, text);
+  return longest;
+}
+
+void write_truth(const std::string& path) {
+  std::string text = "t,a_u\n";
+  const auto count = static_cast<std::size_t>(kDurationS * 1000.0) + 1;
+  for (std::size_t i = 0; i < count; ++i) {
+    const double t = static_cast<double>(i) * 0.001;
+    text += csv_row(t, floor_signal(t));
+  }
+  write_text(path, text);
+}
+
+nlohmann::json stats_of(const stickslip::test::CliRun& run) {
+  const std::vector<std::string> lines = stickslip::test::split_lines(run.out);
+  return nlohmann::json::parse(lines.empty() ? std::string("null") : lines.back());
+}
+
+}  // namespace
+
+TEST_GROUP(RecordingResampling){};
+
+TEST(RecordingResampling, JitteredFiveHundredHertzOnTheKilohertzStepGivesTheSameTaxAndP) {
+  TempDir dir;
+  const double longest_step = write_jittered(dir.file("jittered.csv"));
+  write_truth(dir.file("truth.csv"));
+  const std::vector<std::string> model = {"--model", "stick-slip", "--ffk", "60"};
+  std::vector<std::string> jittered = {
+      "simulate", "--input", dir.file("jittered.csv"), "--output", dir.file("j.out.csv"),
+      "--dt",     "0.001"};
+  std::vector<std::string> truth = {"simulate", "--input", dir.file("truth.csv"), "--output",
+                                    dir.file("t.out.csv")};
+  jittered.insert(jittered.end(), model.begin(), model.end());
+  truth.insert(truth.end(), model.begin(), model.end());
+  const auto j = run_stickslip(jittered);
+  const auto t = run_stickslip(truth);
+  LONGS_EQUAL_TEXT(0, j.status, j.err.c_str());
+  LONGS_EQUAL_TEXT(0, t.status, t.err.c_str());
+  const nlohmann::json js = stats_of(j), ts = stats_of(t);
+  // The act is reported: samples regridded and the rate changed.
+  CHECK(js["recording"]["regridded_samples"].get<std::size_t>() > 0);
+  CHECK(js["recording"]["resampled"].get<bool>());
+  CHECK(j.err.find("resampled to 1000 Hz") != std::string::npos);
+
+  const double tax_j = js["T_ax"], tax_t = ts["T_ax"], p_j = js["p_stick"], p_t = ts["p_stick"];
+  std::printf("\n  T_ax %.6f vs %.6f (%.4f %%), p %.5f vs %.5f\n", tax_j, tax_t,
+              100.0 * (tax_j - tax_t) / tax_t, p_j, p_t);
+  CHECK(p_t > 0.05 && p_t < 0.95);  // a run where sticking matters
+  CHECK(std::fabs(tax_j - tax_t) <= 1e-3 * tax_t);
+  CHECK(std::fabs(p_j - p_t) <= 0.005);
+
+  // Sample by sample, away from the ends (where the resampling filter sees the file start), the
+  // a_u the model got is the continuous signal within the spline's bound (libsoxr VHQ adds
+  // nothing measurable at this scale: its pass band is flat to 0.95 of 250 Hz).
+  const auto table = read_table(dir.file("j.out.csv"));
+  const std::vector<double> times = column(table, 0), a_u = column(table, 1);
+  double worst = 0.0;
+  for (std::size_t n = 0; n < times.size(); ++n) {
+    if (times[n] < 0.1 || times[n] > kDurationS - 0.1) continue;
+    worst = std::max(worst, std::fabs(a_u[n] - floor_signal(times[n])));
+  }
+  const double bound = spline_error_bound(longest_step);
+  std::printf("  a_u max error %.3g m/s^2 (bound %.3g)\n", worst, bound);
+  CHECK(worst <= bound);
+}
+
+// --gaps split: each part is its own run; the whole is the parts' RMS values weighted by samples
+// (checked here against the two parts' own figures) and the gap is counted.
+TEST(RecordingResampling, SplitRunsEachPartAloneAndReportsEachAndTheWhole) {
+  TempDir dir;
+  std::string text = "t,a_u\n";
+  for (int i = 0; i < 4000; ++i) {
+    if (i >= 2000 && i < 2100) continue;  // the logger lost 0.1 s
+    const double t = i * 0.001;
+    text += csv_row(t, floor_signal(t));
+  }
+  write_text(dir.file("gapped.csv"), text);
+  const auto run =
+      run_stickslip({"simulate", "--input", dir.file("gapped.csv"), "--output", dir.file("out.csv"),
+                     "--gaps", "split", "--model", "stick-slip", "--ffk", "60"});
+  LONGS_EQUAL_TEXT(0, run.status, run.err.c_str());
+  const nlohmann::json stats = stats_of(run);
+  LONGS_EQUAL(1, stats["recording"]["gaps"].get<int>());
+  LONGS_EQUAL(2, stats["recording"]["segments"].get<int>());
+  const nlohmann::json& parts = stats["segments"];
+  LONGS_EQUAL(2, parts.size());
+  LONGS_EQUAL(2000, parts[0]["samples"].get<int>());
+  LONGS_EQUAL(1900, parts[1]["samples"].get<int>());
+  DOUBLES_EQUAL(2.1, parts[1]["t_start_s"].get<double>(), 1e-12);
+  LONGS_EQUAL(3900, stats["samples"].get<int>());
+  LONGS_EQUAL(3900, read_table(dir.file("out.csv")).rows.size());  // both parts, one header
+  CHECK(run.err.find("split into 2 segments") != std::string::npos);
+}
+
+// Today's files read as before: without recording flags, and with --dt at the file's own step,
+// the trace is the same bytes; generate --output x.mat writes a MATLAB file whose t and a_u are
+// the CSV's doubles.
+TEST(RecordingResampling, TodaysCsvAndMatReadToTheSameTraceAndGenerateWritesARealMat) {
+  TempDir dir;
+  const std::vector<std::string> generate = {"generate",   "--kind", "lorry", "--rms", "1.2",
+                                             "--duration", "5",      "--dt",  "0.001"};
+  for (const char* name : {"lorry.csv", "lorry.mat"}) {
+    std::vector<std::string> arguments = generate;
+    arguments.insert(arguments.end(), {"--output", dir.file(name)});
+    LONGS_EQUAL(0, run_stickslip(arguments).status);
+  }
+  CHECK(stickslip::test::read_text(dir.file("lorry.mat")).rfind("MATLAB 5.0 MAT-file", 0) == 0);
+  const stickslip::host::SampledSignal csv =
+      stickslip::host::read_signal_csv(dir.file("lorry.csv"));
+  const stickslip::host::SampledSignal mat =
+      stickslip::host::read_signal_mat(dir.file("lorry.mat"));
+  LONGS_EQUAL(csv.t_s.size(), mat.t_s.size());
+  for (std::size_t n = 0; n < csv.t_s.size(); ++n) {
+    CHECK(stickslip::test::bit_equal(csv.t_s[n], mat.t_s[n]));
+    CHECK(stickslip::test::bit_equal(csv.a_u_m_per_s2[n], mat.a_u_m_per_s2[n]));
+  }
+  std::vector<std::string> traces;
+  const std::vector<std::vector<std::string>> variants = {
+      {"--input", dir.file("lorry.csv")},
+      {"--input", dir.file("lorry.csv"), "--dt", "0.001"},
+      {"--input", dir.file("lorry.mat")},
+      {"--input", dir.file("lorry.mat"), "--dt", "0.001", "--gaps", "refuse"}};
+  for (const auto& variant : variants) {
+    std::vector<std::string> arguments = {
+        "simulate", "--output", dir.file("out.csv"), "--model", "stick-slip", "--ffk", "40"};
+    arguments.insert(arguments.end(), variant.begin(), variant.end());
+    const auto run = run_stickslip(arguments);
+    LONGS_EQUAL_TEXT(0, run.status, run.err.c_str());
+    STRCMP_EQUAL("", run.err.c_str());  // nothing done to the samples, nothing said
+    traces.push_back(stickslip::test::read_text(dir.file("out.csv")));
+  }
+  for (const std::string& trace : traces) CHECK(trace == traces.front());
+}

@@ -44,8 +44,8 @@ TEST(DbcCanmatrix, LoadsTheDbcWithTheCodecsE2eAttributesAndNotAvailableCodes) {
   stickslip::test::TempDir dir;
   const std::string script = dir.file("dump.py"), dump = dir.file("dump.json");
   stickslip::test::write_text(script, kDump);
-  const std::string command = "/usr/bin/python3 '" + script + "' '" STICKSLIP_DBC_PATH "' >'" +
-                              dump + "' 2>/dev/null";
+  const std::string command =
+      "/usr/bin/python3 '" + script + "' '" STICKSLIP_DBC_PATH "' >'" + dump + "' 2>/dev/null";
   LONGS_EQUAL(0, std::system(command.c_str()));
   const auto db = nlohmann::json::parse(stickslip::test::read_text(dump));
 

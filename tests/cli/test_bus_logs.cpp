@@ -175,6 +175,13 @@ TEST(BusLogs, ReplayRunsA500HzLogAtItsOwnRateAndRefusesADtThatContradictsIt) {
   STRCMP_CONTAINS(log.c_str(), refused.err.c_str());
   STRCMP_CONTAINS("500 Hz", refused.err.c_str());
   CHECK_FALSE(test::exists(out));
+  // Time stamps that are not the stream's (a capture of a faster playback): --retime runs --dt.
+  const RealRun retimed = run_real(dir, replay_args(log, out, {"--dt", "0.001", "--retime"}));
+  CHECK_EQUAL(0, retimed.status);
+  STRCMP_EQUAL("--dt", last_json(retimed)["dt_source"].get<std::string>().c_str());
+  const std::vector<double> t_retimed = test::column(test::read_table(out), 0);
+  for (std::size_t n = 0; n < t_retimed.size(); ++n)
+    CHECK_EQUAL(static_cast<double>(n) * 0.001, t_retimed[n]);
 }
 
 TEST(BusLogs, ReplayOutputLogKeepsEachFramesTimeStampAndInterfaceUnlessRetimed) {
@@ -198,7 +205,9 @@ TEST(BusLogs, ReplayOutputLogKeepsEachFramesTimeStampAndInterfaceUnlessRetimed) 
   LONGS_EQUAL(input.size(), inputs);
 
   const std::uint64_t before_us = now_us();
-  CHECK_EQUAL(0, run_real(dir, replay_args(log, out, {"--output-log", bus, "--retime"})).status);
+  CHECK_EQUAL(
+      0, run_real(dir, replay_args(log, out, {"--output-log", bus, "--retime", "--dt", "0.002"}))
+             .status);
   const std::vector<host::LoggedFrame> retimed = host::read_candump_log(bus);
   STRCMP_EQUAL("vcan0", retimed[0].interface.c_str());
   CHECK(retimed[0].time_us >= before_us);

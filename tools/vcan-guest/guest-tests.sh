@@ -145,7 +145,7 @@ capture_read_back() {
   capture=$(ls "$out"/capture/candump-*.log 2>/dev/null | head -n 1)
   [ -n "$capture" ] || { echo "  candump -l wrote no log"; return 1; }
   [ "$(wc -l < "$capture")" -eq "$samples" ] || { echo "  capture has $(wc -l < "$capture") lines"; return 1; }
-  timeout 120 stickslip replay --input "$capture" --dt 0.001 --bus loopback --output "$out/capture.csv" $model \
+  timeout 120 stickslip replay --input "$capture" --dt 0.001 --retime --bus loopback --output "$out/capture.csv" $model \
       > "$out/capture.txt" || return 1
   tail -n 1 "$out/capture.txt" > "$out/capture.json"
   expect "$out/capture.json" accepted "$samples" && expect_clean "$out/capture.json" && same_file "$out/capture.csv" "$out/loopback.csv"

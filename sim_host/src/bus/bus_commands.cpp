@@ -169,17 +169,19 @@ LogInterval choose_log_interval(const std::string& path, double log_interval_s, 
   if (!dt_given) return {log_interval_s, "log"};
   throw UsageError(fmt::format(
       "{}: its SeatInput frames come every {} s ({} Hz) by their time stamps, but --dt is {} s "
-      "(more than {} % apart); leave --dt out to run at the log's rate, or give --dt {}",
+      "(more than {} % apart); leave --dt out to run at the log's rate, give --dt {}, or add "
+      "--retime when the time stamps are not the stream's (a capture of a faster playback)",
       path, log_interval_s, 1.0 / log_interval_s, dt_s, kLogRateTolerance * 100.0, log_interval_s));
 }
 
-BusRecording frames_from_log(const std::string& path, double dt_s, bool dt_given) {
+BusRecording frames_from_log(const std::string& path, double dt_s, bool dt_given, bool log_times) {
   require_dt(dt_s, "--dt");
   BusRecording recording;
   recording.logged = read_candump_log(path);
   if (recording.logged.empty()) throw HostError(path + ": the log holds no frames");
   const LogInterval interval =
-      choose_log_interval(path, log_sample_interval_s(recording.logged), dt_s, dt_given);
+      log_times ? choose_log_interval(path, log_sample_interval_s(recording.logged), dt_s, dt_given)
+                : LogInterval{dt_s, "--dt"};
   recording.dt_s = interval.dt_s;
   recording.dt_source = interval.source;
   recording.frames.reserve(recording.logged.size());
@@ -192,8 +194,9 @@ BusRecording frames_from_log(const std::string& path, double dt_s, bool dt_given
   return recording;
 }
 
-BusRecording read_bus_recording(const std::string& path, double log_dt_s, bool dt_given) {
-  return ends_with(path, ".log") ? frames_from_log(path, log_dt_s, dt_given)
+BusRecording read_bus_recording(const std::string& path, double log_dt_s, bool dt_given,
+                                bool log_times) {
+  return ends_with(path, ".log") ? frames_from_log(path, log_dt_s, dt_given, log_times)
                                  : frames_from_csv(path);
 }
 
@@ -269,8 +272,8 @@ class BusLogStamps {
 ReplayResult replay_file(const ReplayRequest& request) {
   if (request.output_path.empty()) throw UsageError("--output: required");
   if (request.setup.reference) throw UsageError("--integrator reference: not available for replay");
-  const BusRecording recording =
-      read_bus_recording(request.input_path, request.log_dt_s, request.log_dt_given);
+  const BusRecording recording = read_bus_recording(request.input_path, request.log_dt_s,
+                                                    request.log_dt_given, !request.retime);
   SimulationSetup setup = request.setup;
   setup.params.dt_s = recording.dt_s;
 

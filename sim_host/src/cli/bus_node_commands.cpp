@@ -75,8 +75,8 @@ class ReplayCommand : public Command {
                     "else 0.001); a log whose rate differs by more than 1 % is refused")
         ->capture_default_str();
     replay.add_flag("--retime", request_.retime,
-                    "--output-log: time the frames n * dt from now on the bus's interface, not "
-                    "with the log's own time stamps and interfaces");
+                    "a log's time stamps are not the stream's (a capture of a faster playback): "
+                    "run it at --dt, and time --output-log n * dt from now on the bus's interface");
     node_.add_to(replay, request_.checker);
     replay.add_flag("--progress", progress_,
                     "frames sent on stderr once a second (default: on a terminal)");

@@ -51,10 +51,13 @@ LogInterval choose_log_interval(const std::string& path, double log_interval_s, 
 // CSV (t,a_u as simulate reads it): one SeatInput frame per sample, counter = n mod 2^16.
 BusRecording frames_from_csv(const std::string& path);
 // candump log (by read_candump_log): every frame as logged, whatever it is; the interval by
-// choose_log_interval().
-BusRecording frames_from_log(const std::string& path, double dt_s, bool dt_given = false);
+// choose_log_interval(), or dt_s when `log_times` is false (time stamps that are not the
+// stream's: a capture of a stream played faster than real time).
+BusRecording frames_from_log(const std::string& path, double dt_s, bool dt_given = false,
+                             bool log_times = true);
 // By extension: ".log" is a candump log, anything else CSV.
-BusRecording read_bus_recording(const std::string& path, double log_dt_s, bool dt_given = false);
+BusRecording read_bus_recording(const std::string& path, double log_dt_s, bool dt_given = false,
+                                bool log_times = true);
 
 // Microseconds since the Unix epoch now (CLOCK_REALTIME): where logs the tools write start.
 std::uint64_t realtime_now_us();
@@ -79,9 +82,11 @@ struct ReplayRequest {
   std::string output_log_path;  // empty: none; else every frame on the bus as a candump log
   double log_dt_s = 1e-3;       // sample interval of a candump-log input
   bool log_dt_given = false;    // --dt (or a scene's rate) was given: a log must agree with it
-  // false: the output log keeps every logged frame's own time stamp and interface (the node's
-  // outputs take those of the frame they answer); true: the frames are timed n * dt from the
-  // start (CLOCK_REALTIME) on the bus's interface. A CSV input is always timed so.
+  // false: a log runs at its own rate (choose_log_interval) and the output log keeps every
+  // logged frame's own time stamp and interface (the node's outputs take those of the frame
+  // they answer). true: the log's time stamps are not the stream's (a capture of a stream
+  // played faster than real time): it runs at log_dt_s, and the frames are timed n * dt from
+  // the start (CLOCK_REALTIME) on the bus's interface, as a CSV input always is.
   bool retime = false;
   unsigned output_every = 1;  // the node's output cycle (EcuNodeConfig)
   OutputSet outputs = OutputSet::full;

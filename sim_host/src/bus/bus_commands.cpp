@@ -12,8 +12,6 @@
 
 #include "bus_endpoint.hpp"
 #include "stickslip/can/codec.hpp"
-#include "stickslip/can/frame_bits.hpp"
-#include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/host/io/output_file.hpp"
 #include "stickslip/host/io/trace_csv.hpp"
 #include "stickslip/host/run/stats_json.hpp"
@@ -40,16 +38,6 @@ void add_counters(port::TransportCounters& sum, const port::TransportCounters& m
   sum.receive_drops += more.receive_drops;
   sum.malformed_reads += more.malformed_reads;
   sum.send_failures += more.send_failures;
-}
-
-bool ends_with(const std::string& text, const std::string& suffix) {
-  return text.size() >= suffix.size() &&
-         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-void require_dt(double dt_s, const char* option) {
-  if (!(dt_s > 0.0) || !std::isfinite(dt_s))
-    throw UsageError(fmt::format("{}: must be a positive time step in s, got {}", option, dt_s));
 }
 
 EcuNodeConfig node_config(const SimulationSetup& setup, ScalarType scalar,
@@ -107,98 +95,6 @@ std::string with_bus_fields(const std::string& stats_json, const ReplayRequest& 
 }
 
 }  // namespace
-
-BusRecording frames_from_csv(const std::string& path) {
-  const SampledSignal signal = read_signal_csv(path);
-  BusRecording recording;
-  recording.t_s = signal.t_s;
-  recording.dt_s = signal.dt_s;
-  recording.frames.reserve(signal.a_u_m_per_s2.size());
-  for (std::size_t n = 0; n < signal.a_u_m_per_s2.size(); ++n) {
-    bool saturated = false;
-    recording.frames.push_back(can::make_input_frame(signal.a_u_m_per_s2[n], n, &saturated));
-    if (saturated) ++recording.saturated;
-  }
-  return recording;
-}
-
-void BusLoad::add(const can::Frame& frame) {
-  if (frame.flags & (can::kErrorFrame | can::kFd)) return;
-  ++frames;
-  bits_exact += can::frame_bits_exact(frame);
-  bits_worst_case += can::frame_bits_worst_case(frame);
-}
-
-std::uint64_t realtime_now_us() {
-  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(
-                                        std::chrono::system_clock::now().time_since_epoch())
-                                        .count());
-}
-
-namespace {
-
-bool is_input_frame(const can::Frame& frame) {
-  return frame.id == can::kSeatInput.id &&
-         !(frame.flags & (can::kExtendedId | can::kRemote | can::kErrorFrame | can::kFd));
-}
-
-}  // namespace
-
-double log_sample_interval_s(const std::vector<LoggedFrame>& logged) {
-  std::vector<std::uint64_t> intervals_us;
-  const LoggedFrame* previous = nullptr;
-  for (const LoggedFrame& entry : logged) {
-    if (!is_input_frame(entry.frame)) continue;
-    if (previous != nullptr && entry.time_us > previous->time_us)
-      intervals_us.push_back(entry.time_us - previous->time_us);
-    else if (previous != nullptr)
-      intervals_us.push_back(0);
-    previous = &entry;
-  }
-  if (intervals_us.empty()) return 0.0;
-  const auto middle = intervals_us.begin() + static_cast<std::ptrdiff_t>(intervals_us.size() / 2);
-  std::nth_element(intervals_us.begin(), middle, intervals_us.end());
-  return static_cast<double>(*middle) / 1e6;
-}
-
-LogInterval choose_log_interval(const std::string& path, double log_interval_s, double dt_s,
-                                bool dt_given) {
-  require_dt(dt_s, "--dt");
-  if (!(log_interval_s > 0.0)) return {dt_s, "--dt"};
-  if (std::fabs(log_interval_s - dt_s) <= kLogRateTolerance * dt_s) return {dt_s, "--dt"};
-  if (!dt_given) return {log_interval_s, "log"};
-  throw UsageError(fmt::format(
-      "{}: its SeatInput frames come every {} s ({} Hz) by their time stamps, but --dt is {} s "
-      "(more than {} % apart); leave --dt out to run at the log's rate, give --dt {}, or add "
-      "--retime when the time stamps are not the stream's (a capture of a faster playback)",
-      path, log_interval_s, 1.0 / log_interval_s, dt_s, kLogRateTolerance * 100.0, log_interval_s));
-}
-
-BusRecording frames_from_log(const std::string& path, double dt_s, bool dt_given, bool log_times) {
-  require_dt(dt_s, "--dt");
-  BusRecording recording;
-  recording.logged = read_candump_log(path);
-  if (recording.logged.empty()) throw HostError(path + ": the log holds no frames");
-  const LogInterval interval =
-      log_times ? choose_log_interval(path, log_sample_interval_s(recording.logged), dt_s, dt_given)
-                : LogInterval{dt_s, "--dt"};
-  recording.dt_s = interval.dt_s;
-  recording.dt_source = interval.source;
-  recording.frames.reserve(recording.logged.size());
-  for (const LoggedFrame& entry : recording.logged) {
-    recording.frames.push_back(entry.frame);
-    if (entry.frame.id == can::kSeatInput.id && !(entry.frame.flags & can::kExtendedId)) {
-      recording.t_s.push_back(static_cast<double>(recording.t_s.size()) * recording.dt_s);
-    }
-  }
-  return recording;
-}
-
-BusRecording read_bus_recording(const std::string& path, double log_dt_s, bool dt_given,
-                                bool log_times) {
-  return ends_with(path, ".log") ? frames_from_log(path, log_dt_s, dt_given, log_times)
-                                 : frames_from_csv(path);
-}
 
 void write_node_trace(const std::string& path, const NodeTrace& trace,
                       const std::vector<double>& t_s, double dt_s) {
@@ -266,6 +162,14 @@ class BusLogStamps {
   std::string interface_;
   std::uint64_t start_us_;
 };
+
+void require_two_samples(const ReplayRequest& request, std::uint64_t samples,
+                         const can::FaultCounters& faults) {
+  if (samples >= 2) return;
+  throw HostError(fmt::format("{}: the node received {} usable sample(s) over {}; need >= 2 ({})",
+                              request.input_path, samples, request.bus,
+                              fault_counters_text(faults)));
+}
 
 }  // namespace
 
@@ -336,11 +240,7 @@ ReplayResult replay_file(const ReplayRequest& request) {
   result.node = node_port->counters();
   sender->close();
   node_port->close();
-  if (node.samples() < 2) {
-    throw HostError(fmt::format("{}: the node received {} usable sample(s) over {}; need >= 2 ({})",
-                                request.input_path, node.samples(), request.bus,
-                                fault_counters_text(result.faults)));
-  }
+  require_two_samples(request, node.samples(), result.faults);
   result.summary = node.summary();
 
   if (log_bus) write_candump_log(request.output_log_path, bus_log);
@@ -426,7 +326,7 @@ void drain_after_stop(port::Transport& bus, const std::function<void(const can::
 }  // namespace
 
 EcuResult run_ecu(const EcuRequest& request) {
-  require_dt(request.setup.params.dt_s, "--dt");
+  require_positive_dt(request.setup.params.dt_s, "--dt");
   const bool keep_trace = !request.output_path.empty() || !request.sample_index_path.empty();
   if (request.receive_buffer_bytes < 0)
     throw UsageError(

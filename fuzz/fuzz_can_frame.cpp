@@ -28,7 +28,7 @@ void check(bool condition) {
 
 std::uint64_t verdict_sum(const FaultCounters& c) {
   return c.accepted + c.ignored_output + c.duplicate + c.out_of_order + c.bad_crc + c.wrong_length +
-         c.unknown_id + c.can_fd + c.error_frame + c.remote_frame + c.alive_mismatch +
+         c.foreign_frames + c.can_fd + c.error_frame + c.remote_frame + c.alive_mismatch +
          c.invalid_signal;
 }
 

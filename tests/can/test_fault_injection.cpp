@@ -101,7 +101,7 @@ TEST_GROUP(FaultInjection) {
     LONGS_EQUAL(expected, c.*counter);
     c.*counter = 0;
     // Every other fault counter stayed at zero.
-    LONGS_EQUAL(0, c.duplicate + c.out_of_order + c.bad_crc + c.wrong_length + c.unknown_id +
+    LONGS_EQUAL(0, c.duplicate + c.out_of_order + c.bad_crc + c.wrong_length + c.foreign_frames +
                        c.can_fd + c.error_frame + c.remote_frame + c.alive_mismatch +
                        c.invalid_signal + c.resync + c.silence);
   }
@@ -181,16 +181,17 @@ TEST(FaultInjection, WrongLengthIsRefusedAndCounted) {
   check_no_faulty_sample_used();
 }
 
-TEST(FaultInjection, UnknownAndExtendedIdsAreRefusedAndCounted) {
+TEST(FaultInjection, ForeignAndExtendedIdsAreCountedApartFromFaults) {
   good(0);
   can::Frame foreign = faulty_frame(1);
   foreign.id = 0x123;
-  CHECK(deliver(foreign) == can::FrameVerdict::unknown_id);
+  CHECK(deliver(foreign) == can::FrameVerdict::foreign_frame);
   can::Frame extended = faulty_frame(1);
   extended.flags = can::kExtendedId;  // 0x100 as a 29-bit id is another message
-  CHECK(deliver(extended) == can::FrameVerdict::unknown_id);
+  CHECK(deliver(extended) == can::FrameVerdict::foreign_frame);
   good(1);
-  check_only(&can::FaultCounters::unknown_id, 2);
+  LONGS_EQUAL(0, node->counters().faults());  // other traffic on the bus is no fault
+  check_only(&can::FaultCounters::foreign_frames, 2);
   check_no_faulty_sample_used();
 }
 
@@ -355,9 +356,9 @@ TEST(FaultInjection, TenSecondsOfRandomFramesLeaveTheNodeRunning) {
   LONGS_EQUAL(10 + sent, c.frames);
   // Every frame got exactly one verdict.
   LONGS_EQUAL(c.frames, c.accepted + c.ignored_output + c.duplicate + c.out_of_order + c.bad_crc +
-                            c.wrong_length + c.unknown_id + c.can_fd + c.error_frame +
+                            c.wrong_length + c.foreign_frames + c.can_fd + c.error_frame +
                             c.remote_frame + c.alive_mismatch + c.invalid_signal);
-  CHECK(c.bad_crc > 0 && c.wrong_length > 0 && c.unknown_id > 0 && c.can_fd > 0 &&
+  CHECK(c.bad_crc > 0 && c.wrong_length > 0 && c.foreign_frames > 0 && c.can_fd > 0 &&
         c.error_frame > 0 && c.remote_frame > 0);
   // Still running: a clean stream is followed again within a few frames, and the model's
   // output stays finite.

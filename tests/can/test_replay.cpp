@@ -187,12 +187,12 @@ TEST(EcuCommand, NodeAloneConsumesFramesUntilTheFrameLimitAndReportsCounters) {
   LONGS_EQUAL(61, result.frames_received);
   LONGS_EQUAL(1, result.faults.ignored_output);
   LONGS_EQUAL(51, result.faults.accepted);
-  LONGS_EQUAL(1, result.faults.unknown_id);
+  LONGS_EQUAL(1, result.faults.foreign_frames);
   LONGS_EQUAL(60 - 52, result.faults.duplicate);
   LONGS_EQUAL(51 * 2 + 6 * 2, result.output_frames);  // motion + force; stats + scene every 10th
   const auto json = nlohmann::json::parse(result.json);
   LONGS_EQUAL(51, json["samples"].get<int>());
-  LONGS_EQUAL(1, json["faults"]["unknown_id"].get<int>());
+  LONGS_EQUAL(1, json["faults"]["foreign_frames"].get<int>());
   const auto lines = stickslip::test::split_lines(stickslip::test::read_text(request.output_path));
   LONGS_EQUAL(52, lines.size());
   STRCMP_EQUAL("t,a_u,x_r,v_r,a_x,f_f,stuck", lines[0].c_str());

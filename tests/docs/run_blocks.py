@@ -521,7 +521,7 @@ def check_ecu_keys(source):
     body = re.search(r"\nstd::string ecu_json\(.*?\n}\n", code, flags=re.S)
     if body is None:
         return [f"{path}: no ecu_json() to read the ecu keys from"]
-    written = set(re.findall(r'json\["([A-Za-z_.]+)"\]', body.group(0)))
+    written = set(re.findall(r'json\["([A-Za-z0-9_.]+)"\]', body.group(0)))
     failures = []
     if written - set(documented):
         failures.append("ecu keys set by ecu_json() but not in sim_host/README.md's ecu table: " +

@@ -62,7 +62,7 @@ wait_for_receivers_above() {
 }
 # No frame refused or missing (bus silence before the first frame is counted, and allowed).
 expect_clean() {
-  for name in lost duplicate out_of_order bad_crc wrong_length unknown_id can_fd error_frame \
+  for name in lost duplicate out_of_order bad_crc wrong_length foreign_frames can_fd error_frame \
               remote_frame alive_mismatch invalid_signal resync held_samples receive_drops malformed_reads; do
     expect "$1" "$name" 0 || return 1
   done
@@ -161,7 +161,7 @@ capture_read_back() {
   capture=$(ls "$out"/capture/candump-*.log 2>/dev/null | head -n 1)
   [ -n "$capture" ] || { echo "  candump -l wrote no log"; return 1; }
   [ "$(wc -l < "$capture")" -eq "$samples" ] || { echo "  capture has $(wc -l < "$capture") lines"; return 1; }
-  timeout 120 stickslip replay --input "$capture" --dt 0.001 --bus loopback --output "$out/capture.csv" $model \
+  timeout 120 stickslip replay --input "$capture" --dt 0.001 --retime --bus loopback --output "$out/capture.csv" $model \
       > "$out/capture.txt" || return 1
   tail -n 1 "$out/capture.txt" > "$out/capture.json"
   expect "$out/capture.json" accepted "$samples" && expect_clean "$out/capture.json" && same_file "$out/capture.csv" "$out/loopback.csv"
@@ -192,7 +192,7 @@ hand_made_faults() {
     expect "$out/faults.json" out_of_order 1 && expect "$out/faults.json" lost 2 &&
     expect "$out/faults.json" bad_crc 1 && expect "$out/faults.json" wrong_length 1 &&
     expect "$out/faults.json" can_fd 1 && expect "$out/faults.json" error_frame 1 &&
-    expect "$out/faults.json" remote_frame 1 && expect "$out/faults.json" unknown_id 1
+    expect "$out/faults.json" remote_frame 1 && expect "$out/faults.json" foreign_frames 1
 }
 check "hand-made faults (cansend, canplayer) counted exactly by stickslip ecu" hand_made_faults
 
@@ -214,7 +214,7 @@ cangen_burst() {
   kill -TERM "$ecu"; wait "$ecu" || { echo "  ecu exited with $?"; return 1; }
   tail -n 1 "$out/burst.txt" > "$out/burst.json"
   cat "$out/burst.json"
-  expect_at_least "$out/burst.json" frames 100 && expect_at_least "$out/burst.json" unknown_id 1 &&
+  expect_at_least "$out/burst.json" frames 100 && expect_at_least "$out/burst.json" foreign_frames 1 &&
     expect_at_least "$out/burst.json" bad_crc 10 && expect_at_least "$out/burst.json" can_fd 1 &&
     expect_at_least "$out/burst.json" remote_frame 1
 }
@@ -238,7 +238,7 @@ check "cangen burst: the node keeps running and counts the frames" cangen_burst
 #      by it; every frame missing from the bus lies in node3's span and is its lost + skipped
 #      (the gap the bus down left, = refused + in flight); the frames on the bus add up to
 #      before node2 + used by node2 + between node2 and node3 + used by node3;
-#    - the flood is counted as unknown_id (the node takes every id, no receive filter), at
+#    - the flood is counted as foreign_frames (the node takes every id, no receive filter), at
 #      least once and at most as many as were on the bus;
 #    - each node's rows used exactly the recording's sample for their sample number (held rows
 #      repeat the previous one), and its outputs equal, bit for bit, the offline result for that
@@ -284,7 +284,7 @@ node_accounts() {
   expect "$j" receive_drops 0 && expect "$j" malformed_reads 0 || return 1
   # Every frame read has one verdict.
   verdicts=0
-  for name in accepted ignored_output duplicate out_of_order bad_crc wrong_length unknown_id can_fd \
+  for name in accepted ignored_output duplicate out_of_order bad_crc wrong_length foreign_frames can_fd \
               error_frame remote_frame alive_mismatch invalid_signal; do
     verdicts=$((verdicts + $(counter "$name" "$j")))
   done
@@ -441,16 +441,16 @@ ecu_load_faults() {
   before2=$(count_between "$out/load-sent.txt" 0 $((f2 - 1)))
   between=$(count_between "$out/load-sent.txt" $((l2 + 1)) $((f3 - 1)))
   [ $((before2 + in2 + between + in3)) -eq "$on_bus" ] || { echo "  the frames on the bus do not add up"; return 1; }
-  # The flood: counted as unknown ids, never more than were on the bus.
-  unknown=$(( $(counter unknown_id "$out/node2.json") + $(counter unknown_id "$out/node3.json") ))
+  # The flood: counted as foreign frames, never more than were on the bus.
+  unknown=$(( $(counter foreign_frames "$out/node2.json") + $(counter foreign_frames "$out/node3.json") ))
   [ "$unknown" -ge 1 ] && [ "$unknown" -le "$flood_on_bus" ] ||
-    { echo "  unknown_id $unknown for $flood_on_bus flood frames"; return 1; }
+    { echo "  foreign_frames $unknown for $flood_on_bus flood frames"; return 1; }
   node_used_the_recording node2 && node_used_the_recording node3 || return 1
   echo "  $total samples at ${load_speed}x in $(json_value duration_s "$out/play.json") s: sent $sent, refused while down $not_sent," \
        "on the bus $on_bus (in flight at the down $in_flight); before node2 (node1, killed, and the restart) $before2," \
        "node2 used $in2 (samples $f2..$l2), restart gap $between, node3 used $in3 (samples $f3..$l3," \
        "bus down $(counter bus_down "$out/node3.json"), gap lost + skipped $gap3 = refused + in flight);" \
-       "flood on the bus $flood_on_bus, counted unknown_id $unknown"
+       "flood on the bus $flood_on_bus, counted foreign_frames $unknown"
 }
 # The faults are timed at a higher priority; whatever happens, the shell goes back to 0.
 ecu_load_faults_at_0() { ecu_load_faults; status=$?; renice 0 -p $$ >/dev/null 2>&1; return $status; }

@@ -12,7 +12,6 @@
 
 #include "bus_endpoint.hpp"
 #include "stickslip/can/codec.hpp"
-#include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/host/io/output_file.hpp"
 #include "stickslip/host/io/trace_csv.hpp"
 #include "stickslip/host/run/stats_json.hpp"
@@ -41,31 +40,53 @@ void add_counters(port::TransportCounters& sum, const port::TransportCounters& m
   sum.send_failures += more.send_failures;
 }
 
-bool ends_with(const std::string& text, const std::string& suffix) {
-  return text.size() >= suffix.size() &&
-         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-void require_dt(double dt_s, const char* option) {
-  if (!(dt_s > 0.0) || !std::isfinite(dt_s))
-    throw UsageError(fmt::format("{}: must be a positive time step in s, got {}", option, dt_s));
-}
-
 EcuNodeConfig node_config(const SimulationSetup& setup, ScalarType scalar,
-                          const can::CheckerConfig& checker, bool keep_trace) {
+                          const can::CheckerConfig& checker, bool keep_trace, unsigned output_every,
+                          OutputSet outputs) {
   EcuNodeConfig config;
   config.setup = setup;
   config.scalar = scalar;
   config.checker = checker;
   config.keep_trace = keep_trace;
+  config.output_every = output_every;
+  config.outputs = outputs;
   return config;
 }
 
-std::string with_bus_fields(const std::string& stats_json, const std::string& bus,
-                            const can::FaultCounters& faults, const port::TransportCounters& node,
+// The bus load of the frames replay put on the bus over the stream's duration, exact and worst
+// case (frame_bits.hpp), as bits per second and as a share of 1 M, 500 k and 250 kbit/s.
+nlohmann::ordered_json bus_load_json(const BusLoad& load, double duration_s) {
+  nlohmann::ordered_json json;
+  json["frames"] = load.frames;
+  json["duration_s"] = duration_s;
+  const double exact = static_cast<double>(load.bits_exact) / duration_s;
+  const double worst = static_cast<double>(load.bits_worst_case) / duration_s;
+  json["bits_per_s_exact"] = exact;
+  json["bits_per_s_worst_case"] = worst;
+  for (const double bitrate : {1e6, 5e5, 2.5e5}) {
+    const std::string rate = fmt::format("{}k", bitrate / 1e3);
+    json["percent_exact_" + rate] = 100.0 * exact / bitrate;
+    json["percent_worst_case_" + rate] = 100.0 * worst / bitrate;
+  }
+  return json;
+}
+
+const char* output_set_name(OutputSet outputs) {
+  return outputs == OutputSet::reduced ? "reduced" : "full";
+}
+
+std::string with_bus_fields(const std::string& stats_json, const ReplayRequest& request,
+                            const BusRecording& recording, const BusLoad& load,
+                            std::uint64_t samples, const can::FaultCounters& faults,
+                            const port::TransportCounters& node,
                             const port::TransportCounters& sender) {
   auto json = nlohmann::ordered_json::parse(stats_json);
-  json["bus"] = bus;
+  json["bus"] = request.bus;
+  json["dt_source"] = recording.dt_source;
+  json["e2e"] = request.checker.e2e;  // false: plain sensor frames, no CRC or counter checks
+  json["outputs"] = output_set_name(request.outputs);
+  json["output_every"] = request.output_every;
+  json["bus_load"] = bus_load_json(load, static_cast<double>(samples) * recording.dt_s);
   json["faults"] = nlohmann::ordered_json::parse(fault_counters_json(faults));
   json["receive_drops"] = node.receive_drops;
   json["malformed_reads"] = node.malformed_reads;
@@ -74,44 +95,6 @@ std::string with_bus_fields(const std::string& stats_json, const std::string& bu
 }
 
 }  // namespace
-
-BusRecording frames_from_csv(const std::string& path, const RecordingOptions& options) {
-  RecordingReport report;
-  const SampledSignal signal = read_continuous_recording(path, options, "replay", &report);
-  BusRecording recording;
-  recording.recording_note = describe_recording(path, report);
-  recording.t_s = signal.t_s;
-  recording.dt_s = signal.dt_s;
-  recording.frames.reserve(signal.a_u_m_per_s2.size());
-  for (std::size_t n = 0; n < signal.a_u_m_per_s2.size(); ++n) {
-    bool saturated = false;
-    recording.frames.push_back(can::make_input_frame(signal.a_u_m_per_s2[n], n, &saturated));
-    if (saturated) ++recording.saturated;
-  }
-  return recording;
-}
-
-BusRecording frames_from_log(const std::string& path, double dt_s) {
-  require_dt(dt_s, "--dt");
-  const std::vector<LoggedFrame> logged = read_candump_log(path);
-  BusRecording recording;
-  recording.dt_s = dt_s;
-  recording.frames.reserve(logged.size());
-  for (const LoggedFrame& entry : logged) {
-    recording.frames.push_back(entry.frame);
-    if (entry.frame.id == can::kSeatInput.id && !(entry.frame.flags & can::kExtendedId)) {
-      recording.t_s.push_back(static_cast<double>(recording.t_s.size()) * dt_s);
-    }
-  }
-  if (recording.frames.empty()) throw HostError(path + ": the log holds no frames");
-  return recording;
-}
-
-BusRecording read_bus_recording(const std::string& path, double log_dt_s,
-                                const RecordingOptions& recording) {
-  return ends_with(path, ".log") && recording.dbc.empty() ? frames_from_log(path, log_dt_s)
-                                                          : frames_from_csv(path, recording);
-}
 
 void write_node_trace(const std::string& path, const NodeTrace& trace,
                       const std::vector<double>& t_s, double dt_s) {
@@ -154,11 +137,48 @@ void receive_last_outputs(port::Transport& sender, ReplayResult& result) {
 
 }  // namespace
 
+namespace {
+
+// Where each frame goes in replay's output log (ReplayRequest::retime): a log's frames keep
+// their own time stamp and interface, the node's outputs take those of the frame they answer;
+// otherwise sample n is at the start (CLOCK_REALTIME) + n * dt on the bus's interface.
+class BusLogStamps {
+ public:
+  BusLogStamps(const ReplayRequest& request, const BusRecording& recording)
+      : recording_(recording),
+        own_(!request.retime && !recording.logged.empty()),
+        interface_(request.bus == "loopback" ? "vcan0" : request.bus),
+        start_us_(realtime_now_us()) {}
+  LoggedFrame stamp(std::size_t frame, std::uint64_t samples, const can::Frame& what) const {
+    if (own_) return {recording_.logged[frame].time_us, recording_.logged[frame].interface, what};
+    const auto offset_us = static_cast<std::uint64_t>(
+        std::llround(static_cast<double>(samples) * recording_.dt_s * 1e6));
+    return {start_us_ + offset_us, interface_, what};
+  }
+
+ private:
+  const BusRecording& recording_;
+  bool own_;
+  std::string interface_;
+  std::uint64_t start_us_;
+};
+
+void require_two_samples(const ReplayRequest& request, std::uint64_t samples,
+                         const can::FaultCounters& faults) {
+  if (samples >= 2) return;
+  throw HostError(fmt::format("{}: the node received {} usable sample(s) over {}; need >= 2 ({})",
+                              request.input_path, samples, request.bus,
+                              fault_counters_text(faults)));
+}
+
+}  // namespace
+
 ReplayResult replay_file(const ReplayRequest& request) {
   if (request.output_path.empty()) throw UsageError("--output: required");
   if (request.setup.reference) throw UsageError("--integrator reference: not available for replay");
   const BusRecording recording =
-      read_bus_recording(request.input_path, request.log_dt_s, request.recording);
+      read_bus_recording(request.input_path, request.log_dt_s, request.recording,
+                         request.log_dt_given, !request.retime);
   SimulationSetup setup = request.setup;
   setup.params.dt_s = recording.dt_s;
 
@@ -166,7 +186,8 @@ ReplayResult replay_file(const ReplayRequest& request) {
   result.bus = request.bus;
   result.recording_note = recording.recording_note;
   result.input_saturated = recording.saturated;
-  EcuNode node(node_config(setup, request.scalar, request.checker, true));  // may throw: first
+  EcuNode node(node_config(setup, request.scalar, request.checker, true, request.output_every,
+                           request.outputs));  // may throw: first
 
   std::unique_ptr<port::Transport> sender = open_bus(request.bus, "--bus");
   std::unique_ptr<port::Transport> node_port = open_bus(request.bus, "--bus");
@@ -175,7 +196,7 @@ ReplayResult replay_file(const ReplayRequest& request) {
   sender->set_filters(&outputs_only, 1);
 
   const bool log_bus = !request.output_log_path.empty();
-  const std::string log_interface = request.bus == "loopback" ? "vcan0" : request.bus;
+  const BusLogStamps stamps(request, recording);
   std::vector<LoggedFrame> bus_log;
   std::vector<can::Frame> outputs;
   outputs.reserve(16);
@@ -184,8 +205,7 @@ ReplayResult replay_file(const ReplayRequest& request) {
   node.start(now_ns());
   std::uint64_t sent_ok = 0, node_received = 0;
   for (std::size_t i = 0; i < recording.frames.size(); ++i) {
-    const std::uint64_t sample_us = static_cast<std::uint64_t>(
-        std::llround(static_cast<double>(node.samples()) * recording.dt_s * 1e6));
+    const std::uint64_t samples = node.samples();
     if (request.realtime) {
       std::this_thread::sleep_until(
           start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -195,15 +215,19 @@ ReplayResult replay_file(const ReplayRequest& request) {
     const can::Frame& frame = recording.frames[i];
     if (send_frame(*sender, frame) == port::TransportStatus::ok) {
       ++sent_ok;
-      if (log_bus) bus_log.push_back({sample_us, log_interface, frame});
+      result.bus_load.add(frame);
+      if (log_bus) bus_log.push_back(stamps.stamp(i, samples, frame));
     }
     // Lock step: the node takes everything sent so far before the next frame goes out.
     while (node_received < sent_ok) {
       if (!node_takes_one(node, *node_port, request.receive_timeout_ms, outputs)) break;
       ++node_received;
       for (const can::Frame& out : outputs) {
-        if (send_frame(*node_port, out) == port::TransportStatus::ok) ++result.output_frames;
-        if (log_bus) bus_log.push_back({sample_us, log_interface, out});
+        if (send_frame(*node_port, out) == port::TransportStatus::ok) {
+          ++result.output_frames;
+          result.bus_load.add(out);
+        }
+        if (log_bus) bus_log.push_back(stamps.stamp(i, samples, out));
       }
       outputs.clear();
     }
@@ -218,11 +242,7 @@ ReplayResult replay_file(const ReplayRequest& request) {
   result.node = node_port->counters();
   sender->close();
   node_port->close();
-  if (node.samples() < 2) {
-    throw HostError(fmt::format("{}: the node received {} usable sample(s) over {}; need >= 2 ({})",
-                                request.input_path, node.samples(), request.bus,
-                                fault_counters_text(result.faults)));
-  }
+  require_two_samples(request, node.samples(), result.faults);
   result.summary = node.summary();
 
   if (log_bus) write_candump_log(request.output_log_path, bus_log);
@@ -230,7 +250,8 @@ ReplayResult replay_file(const ReplayRequest& request) {
   result.stats_json = with_bus_fields(
       format_stats_json(result.summary, StatsContext{&setup, request.scalar, request.input_path,
                                                      request.output_path}),
-      request.bus, result.faults, result.node, result.sender);
+      request, recording, result.bus_load, node.samples(), result.faults, result.node,
+      result.sender);
   return result;
 }
 
@@ -266,6 +287,9 @@ constexpr std::uint64_t kMaxDrainFrames = 1000000;
 std::string ecu_json(const EcuRequest& request, const EcuResult& result, const EcuNode& node) {
   nlohmann::ordered_json json;
   json["bus"] = request.bus;
+  json["e2e"] = request.checker.e2e;  // false: plain sensor frames, no CRC or counter checks
+  json["outputs"] = output_set_name(request.outputs);
+  json["output_every"] = request.output_every;
   json["frames_received"] = result.frames_received;
   json["samples"] = node.samples();
   // The sender's sample numbers of the first and last row (null: none yet).
@@ -304,12 +328,13 @@ void drain_after_stop(port::Transport& bus, const std::function<void(const can::
 }  // namespace
 
 EcuResult run_ecu(const EcuRequest& request) {
-  require_dt(request.setup.params.dt_s, "--dt");
+  require_positive_dt(request.setup.params.dt_s, "--dt");
   const bool keep_trace = !request.output_path.empty() || !request.sample_index_path.empty();
   if (request.receive_buffer_bytes < 0)
     throw UsageError(
         fmt::format("--receive-buffer: must be >= 0 bytes, got {}", request.receive_buffer_bytes));
-  EcuNode node(node_config(request.setup, request.scalar, request.checker, keep_trace));
+  EcuNode node(node_config(request.setup, request.scalar, request.checker, keep_trace,
+                           request.output_every, request.outputs));
   std::unique_ptr<port::Transport> bus =
       open_bus(request.bus, "--bus", request.receive_buffer_bytes);
   EcuResult result;

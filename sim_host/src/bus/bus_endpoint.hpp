@@ -15,6 +15,9 @@ namespace stickslip::host {
 std::unique_ptr<port::Transport> open_bus(const std::string& bus, const char* option,
                                           int receive_buffer_bytes = 0);
 
+// Throws UsageError "OPTION: must be a positive time step in s, got X" unless dt_s > 0, finite.
+void require_positive_dt(double dt_s, const char* option);
+
 // Sends, retrying briefly while the socket's queue is full (a real bus drains it).
 port::TransportStatus send_frame(port::Transport& transport, const can::Frame& frame);
 

@@ -117,6 +117,7 @@ class SeatModelFixed final : public SeatModel {
     oscillator_.reset(x0_, v0_, input);
     statistics_.reset();
     events_ = 0;
+    samples_ = 1;
     const StepOutput<Fixed> out = oscillator_.current();
     statistics_.add_sample(input.to_double(), out.a_x_m_per_s2.to_double());
     return convert(out);
@@ -124,6 +125,7 @@ class SeatModelFixed final : public SeatModel {
   SampleOutput step(double a_u) override {
     const Fixed input(a_u);
     const StepOutput<Fixed> out = oscillator_.step(input);
+    ++samples_;
     statistics_.add_sample(input.to_double(), out.a_x_m_per_s2.to_double());
     statistics_.add_step(out.stuck_fraction.to_double());
     events_ += out.events;
@@ -141,6 +143,8 @@ class SeatModelFixed final : public SeatModel {
     o.stick_probability = statistics_.stick_probability();
     o.den_hartog_k = den_hartog_factor(setup_.params.kinetic_friction_n, setup_.params.mass_kg,
                                        o.rms_u_m_per_s2);
+    // The whole stream so far: ready from the first sample.
+    o.window_s = static_cast<double>(samples_) * setup_.params.dt_s;
     return o;
   }
 
@@ -153,6 +157,7 @@ class SeatModelFixed final : public SeatModel {
   Oscillator<Fixed, Law> oscillator_;
   RunningStatistics<double> statistics_;
   std::uint64_t events_ = 0;
+  std::uint64_t samples_ = 0;
   Fixed x0_, v0_;
   bool start_saturated_ = false;
 };
@@ -189,6 +194,7 @@ std::string ecu_node_scalar_refusal(ScalarType scalar) {
 
 EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config.checker) {
   if (config_.stats_every == 0) config_.stats_every = 1;
+  if (config_.output_every == 0) throw UsageError("--output-every: must be >= 1 sample");
   if (config_.setup.reference) throw UsageError("the ECU node runs the core's integrators only");
   const std::string refusal = ecu_node_scalar_refusal(config_.scalar);
   if (!refusal.empty()) throw UsageError(refusal);
@@ -250,40 +256,52 @@ void EcuNode::emit(double a_u, bool held, bool resync, std::int64_t sample,
     trace_.held.push_back(held ? 1 : 0);
   }
 
+  publish(out.x_r, out.v_r, out.a_x, out.f_f, out.stuck, held, resync, index, outputs);
+}
+
+void EcuNode::publish(double x_r, double v_r, double a_x, double f_f, bool stuck, bool held,
+                      bool resync, std::uint64_t index, std::vector<can::Frame>& outputs) {
   const auto counter = static_cast<std::uint16_t>(index & 0xFFFFu);
-  const auto next_alive = [this](int message) {
-    const std::uint8_t alive = alive_[message];
-    alive_[message] = static_cast<std::uint8_t>((alive + 1u) & 0x0Fu);
-    return alive;
-  };
   const std::uint8_t state_flags = static_cast<std::uint8_t>(
-      (out.stuck ? can::kStuck : 0) | (held ? can::kHeld : 0) | (resync ? can::kResync : 0));
+      (stuck ? can::kStuck : 0) | (held ? can::kHeld : 0) | (resync ? can::kResync : 0));
   const auto pair_frame = [&](const can::MessageSpec& message, int slot, std::uint8_t flags,
                               double first, double second) {
-    const can::Quantised q0 = can::quantise(message.signals[0], first);
-    const can::Quantised q1 = can::quantise(message.signals[1], second);
-    can::Payload payload;
-    payload.sample_counter = counter;
-    payload.alive_counter = next_alive(slot);
-    payload.flags =
-        static_cast<std::uint8_t>(flags | ((q0.saturated || q1.saturated) ? can::kSaturated : 0));
-    payload.words[0] = q0.word;
-    payload.words[1] = q1.word;
-    outputs.push_back(can::make_frame(message, payload));
+    outputs.push_back(output_frame(message, counter, alive_[slot], flags, first, second));
   };
-  pair_frame(can::kSeatMotion, 0, state_flags, out.a_x, out.x_r);
-  pair_frame(can::kSeatForce, 1, state_flags, out.v_r, out.f_f);
+  const bool reduced = config_.outputs == OutputSet::reduced;
+  if (index % config_.output_every == 0) {
+    pair_frame(can::kSeatMotion, 0, state_flags, a_x, x_r);
+    if (!reduced) pair_frame(can::kSeatForce, 1, state_flags, v_r, f_f);
+  }
   if (index % config_.stats_every == 0) {
     // The observer's window (10 s) as of its last completed block; before the first block
-    // completes, nothing has been observed yet and the figures are 0.
+    // completes nothing has been observed: not available (all ones), as J1939 does.
     const ObserverSummary running = model_->observed();
+    const bool ready = running.window_s > 0.0;
+    const double not_available = std::numeric_limits<double>::quiet_NaN();
     const double k = running.den_hartog_k;
-    pair_frame(can::kSeatStats, 2, 0, running.transmissibility, running.stick_probability);
+    pair_frame(can::kSeatStats, 2, 0, ready ? running.transmissibility : not_available,
+               ready ? running.stick_probability : not_available);
+    if (reduced) return;
     const double faults = static_cast<double>(checker_.counters().faults());
-    pair_frame(can::kSeatScene, 3, 0,
-               std::isfinite(k) ? k : std::numeric_limits<double>::quiet_NaN(),
+    pair_frame(can::kSeatScene, 3, 0, ready && std::isfinite(k) ? k : not_available,
                std::fmin(faults, static_cast<double>(can::kUnsignedMax)));
   }
+}
+
+can::Frame output_frame(const can::MessageSpec& message, std::uint16_t sample_counter,
+                        std::uint8_t& alive, std::uint8_t flags, double first, double second) {
+  const can::Quantised q0 = can::quantise(message.signals[0], first);
+  const can::Quantised q1 = can::quantise(message.signals[1], second);
+  can::Payload payload;
+  payload.sample_counter = sample_counter;
+  payload.alive_counter = alive;
+  alive = static_cast<std::uint8_t>((alive + 1u) & 0x0Fu);
+  payload.flags =
+      static_cast<std::uint8_t>(flags | ((q0.saturated || q1.saturated) ? can::kSaturated : 0));
+  payload.words[0] = q0.word;
+  payload.words[1] = q1.word;
+  return can::make_frame(message, payload);
 }
 
 SimulationSummary EcuNode::summary() const {
@@ -309,7 +327,7 @@ void for_each_counter(const can::FaultCounters& c, Fn&& fn) {
   fn("out_of_order", c.out_of_order);
   fn("bad_crc", c.bad_crc);
   fn("wrong_length", c.wrong_length);
-  fn("unknown_id", c.unknown_id);
+  fn("foreign_frames", c.foreign_frames);
   fn("can_fd", c.can_fd);
   fn("error_frame", c.error_frame);
   fn("remote_frame", c.remote_frame);

@@ -45,8 +45,8 @@ std::string play_json(const PlayRequest& request, const PlayResult& result) {
 PlayResult play_file(const PlayRequest& request) {
   if (!(request.speed > 0.0) || !std::isfinite(request.speed))
     throw UsageError(fmt::format("--speed: must be a positive factor, got {}", request.speed));
-  const BusRecording recording =
-      read_bus_recording(request.input_path, request.log_dt_s, request.recording);
+  const BusRecording recording = read_bus_recording(request.input_path, request.log_dt_s,
+                                                    request.recording, request.log_dt_given);
   std::unique_ptr<port::Transport> bus = open_bus(request.bus, "--bus");
   // The sender reads nothing: a filter no frame of the project matches (an extended id), so that
   // the kernel does not queue the whole bus for it.
@@ -113,14 +113,23 @@ PlayResult play_file(const PlayRequest& request) {
 std::uint64_t record_log(const RecordRequest& request, std::uint64_t& saturated,
                          std::string* recording_note) {
   if (request.interface.empty()) throw UsageError("--interface: must not be empty");
+  if (!(request.start_time_s < 0.0) && !(request.start_time_s < 1e10))
+    throw UsageError(fmt::format("--start-time: must be s since the Unix epoch (0 .. 1e10), got {}",
+                                 request.start_time_s));
   const BusRecording recording = frames_from_csv(request.input_path, request.recording);
   if (recording_note != nullptr) *recording_note = recording.recording_note;
+  // The wall clock at the start, then the recording's own time line: log2asc and other tools
+  // date the log by its first time stamp (a log that starts at 0 is dated 1970).
+  const std::uint64_t start_us =
+      request.start_time_s < 0.0
+          ? realtime_now_us()
+          : static_cast<std::uint64_t>(std::llround(request.start_time_s * 1e6));
   std::vector<LoggedFrame> logged;
   logged.reserve(recording.frames.size());
   for (std::size_t n = 0; n < recording.frames.size(); ++n) {
     const double t = recording.t_s[n] - recording.t_s[0];
-    logged.push_back({static_cast<std::uint64_t>(std::llround(t * 1e6)), request.interface,
-                      recording.frames[n]});
+    logged.push_back({start_us + static_cast<std::uint64_t>(std::llround(t * 1e6)),
+                      request.interface, recording.frames[n]});
   }
   write_candump_log(request.output_path, logged);
   saturated = recording.saturated;

@@ -19,12 +19,45 @@ constexpr const char* kNodeSceneHelp =
     "scene file (TOML, docs/scenes/): seat, model, integrator, sample rate, CAN ids; the flags "
     "override it";
 
-void add_checker_options(CLI::App& command, can::CheckerConfig& checker) {
-  command
-      .add_option("--max-gap", checker.max_gap,
-                  "lost samples held per gap; a longer gap is a counted resync")
-      ->capture_default_str();
-}
+// The receive check and the node's outputs, as replay and ecu share them.
+struct NodeOptions {
+  bool no_e2e = false;
+  unsigned output_every = 1;
+  std::string outputs = "full";
+
+  void add_to(CLI::App& command, can::CheckerConfig& checker) {
+    command
+        .add_option("--max-gap", checker.max_gap,
+                    "lost samples held per gap; a longer gap is a counted resync")
+        ->capture_default_str();
+    command.add_flag("--no-e2e", no_e2e,
+                     "the sender has no E2E counter or CRC (plain sensor frames, a_u in bytes "
+                     "4-5): every SeatInput frame is the next sample");
+    command
+        .add_option("--output-every", output_every,
+                    "output cycle: SeatMotion/SeatForce every this many samples")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    command
+        .add_option("--outputs", outputs,
+                    "full (SeatMotion, SeatForce, SeatStats, SeatScene) or reduced (SeatMotion, "
+                    "SeatStats: fits 250 and 500 kbit/s buses; docs/CAN.md)")
+        ->capture_default_str();
+  }
+
+  template <typename Request>
+  void apply(Request& request) const {
+    request.checker.e2e = !no_e2e;
+    request.output_every = output_every;
+    if (outputs == "full") {
+      request.outputs = OutputSet::full;
+    } else if (outputs == "reduced") {
+      request.outputs = OutputSet::reduced;
+    } else {
+      throw UsageError("--outputs: unknown set '" + outputs + "' (expected full or reduced)");
+    }
+  }
+};
 
 class ReplayCommand : public Command {
  public:
@@ -37,9 +70,15 @@ class ReplayCommand : public Command {
     replay.add_option("--output", request_.output_path, "CSV file to write")->required();
     replay.add_option("--output-log", request_.output_log_path,
                       "also write every frame on the bus as a candump log");
-    replay.add_option("--dt", request_.log_dt_s, "sample interval of a candump-log input, s")
+    replay
+        .add_option("--dt", request_.log_dt_s,
+                    "sample interval of a candump-log input, s (default: the log's own rate, "
+                    "else 0.001); a log whose rate differs by more than 1 % is refused")
         ->capture_default_str();
-    add_checker_options(replay, request_.checker);
+    replay.add_flag("--retime", request_.retime,
+                    "a log's time stamps are not the stream's (a capture of a faster playback): "
+                    "run it at --dt, and time --output-log n * dt from now on the bus's interface");
+    node_.add_to(replay, request_.checker);
     replay.add_flag("--progress", progress_,
                     "frames sent on stderr once a second (default: on a terminal)");
     model_.add_to(replay, request_.setup, kNodeSceneHelp);
@@ -54,7 +93,9 @@ class ReplayCommand : public Command {
     if (given(replay, "--dt")) request.recording.dt_s = request.log_dt_s;
     const ResolvedModel model = model_.resolve(replay, request.setup);
     request.scalar = model.scalar;
+    node_.apply(request);
     if (model.scene_dt_s() > 0.0 && !given(replay, "--dt")) request.log_dt_s = model.scene_dt_s();
+    request.log_dt_given = given(replay, "--dt") || model.scene_dt_s() > 0.0;
     if (rate_ == "realtime") {
       request.realtime = true;
     } else if (rate_ != "max") {
@@ -81,6 +122,7 @@ class ReplayCommand : public Command {
 
  private:
   ReplayRequest request_;
+  NodeOptions node_;
   std::string rate_ = "max";
   bool progress_ = false;
   ModelOptions model_{kBusNodeChoices};
@@ -110,7 +152,7 @@ class EcuCommand : public Command {
     ecu.add_option(
         "--sample-index", request_.sample_index_path,
         "write n,sample,held per row: the sender's sample number of each row, 1 if held");
-    add_checker_options(ecu, request_.checker);
+    node_.add_to(ecu, request_.checker);
     ecu.add_flag("--progress", progress_,
                  "frames taken on stderr once a second (default: on a terminal)");
     model_.add_to(ecu, request_.setup, kNodeSceneHelp);
@@ -128,6 +170,7 @@ class EcuCommand : public Command {
           "canplayer sending");
     }
     request.scalar = model.scalar;
+    node_.apply(request);
     if (model.scene_dt_s() > 0.0 && !given(ecu, "--dt"))
       request.setup.params.dt_s = model.scene_dt_s();
     const StopOnSignals signals(timeout_s_);
@@ -147,6 +190,7 @@ class EcuCommand : public Command {
 
  private:
   EcuRequest request_;
+  NodeOptions node_;
   double timeout_s_ = 0.0;
   bool progress_ = false;
   ModelOptions model_{kBusNodeChoices};

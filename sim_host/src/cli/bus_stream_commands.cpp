@@ -21,6 +21,9 @@ class RecordCommand : public Command {
     record.add_option("--interface", request_.interface, "interface name in the log")
         ->capture_default_str();
     recording_.add_to(record);
+    record.add_option("--start-time", request_.start_time_s,
+                      "time stamp of the first frame, s since the Unix epoch (default: the wall "
+                      "clock, CLOCK_REALTIME, when record starts)");
   }
 
   int run(CLI::App&, std::ostream& out, std::ostream& err) override {
@@ -48,15 +51,18 @@ class PlayCommand : public Command {
     play.add_option("--bus", request_.bus, "loopback | a SocketCAN interface such as vcan0")
         ->required();
     play.add_option("--speed", request_.speed, "times real time")->capture_default_str();
-    play.add_option("--dt", request_.log_dt_s, "sample interval of a candump-log input, s")
+    play.add_option("--dt", request_.log_dt_s,
+                    "sample interval of a candump-log input, s (default: the log's own rate, "
+                    "else 0.001)")
         ->capture_default_str();
     play.add_flag("--progress", progress_,
                   "frames sent on stderr once a second (default: on a terminal)");
     recording_.add_to(play, false);
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream& err) override {
+  int run(CLI::App& play, std::ostream& out, std::ostream& err) override {
     PlayRequest request = request_;
+    request.log_dt_given = given(play, "--dt");
     check_bus_name("--bus", request_.bus);
     request.recording = recording_.resolve();
     const StopOnSignals signals;

@@ -3,8 +3,10 @@
 // nanoseconds), so the checker itself has no clock.
 //
 // Order of the checks (the first that fails names the fault): error frame, remote frame, CAN FD,
-// identifier (one of the node's own output messages is ignored and counted, not a fault; any
-// other foreign id, or an extended id, is unknown_id), length != 8, CRC, then the counters.
+// identifier (one of the node's own output messages is ignored_output; any other id, or an
+// extended id, is a foreign frame: another node's traffic, counted apart, not a fault),
+// length != 8, CRC, then the counters. With e2e off (a plain sensor that sends no counters and
+// no CRC) the CRC and counter checks are skipped: every SeatInput frame is the next sample.
 //
 // Counter and gap policy (docs/CAN.md): with d = (counter - last accepted counter) mod 2^16,
 //   d == 0                    duplicate      refused
@@ -36,7 +38,7 @@ enum class FrameVerdict : std::uint8_t {
   out_of_order,
   bad_crc,
   wrong_length,
-  unknown_id,
+  foreign_frame,  // an id the node does not own (other traffic on the bus): not a fault
   can_fd,
   error_frame,
   remote_frame,
@@ -58,8 +60,8 @@ constexpr const char* frame_verdict_name(FrameVerdict verdict) noexcept {
       return "bad_crc";
     case FrameVerdict::wrong_length:
       return "wrong_length";
-    case FrameVerdict::unknown_id:
-      return "unknown_id";
+    case FrameVerdict::foreign_frame:
+      return "foreign_frame";
     case FrameVerdict::can_fd:
       return "can_fd";
     case FrameVerdict::error_frame:
@@ -83,7 +85,7 @@ struct FaultCounters {
   std::uint64_t out_of_order = 0;
   std::uint64_t bad_crc = 0;
   std::uint64_t wrong_length = 0;
-  std::uint64_t unknown_id = 0;
+  std::uint64_t foreign_frames = 0;  // ids the node does not own, 29-bit ids: not faults
   std::uint64_t can_fd = 0;
   std::uint64_t error_frame = 0;
   std::uint64_t remote_frame = 0;
@@ -95,16 +97,15 @@ struct FaultCounters {
   std::uint64_t held_samples = 0;      // samples the node filled in (lost + invalid_signal)
   std::uint64_t sender_saturated = 0;  // accepted frames whose sender clipped a_u
 
-  // Frames refused or missing: everything but accepted and ignored_output.
+  // Frames refused or missing: everything but accepted, ignored_output and foreign_frames.
   std::uint64_t faults() const noexcept {
-    return lost + duplicate + out_of_order + bad_crc + wrong_length + unknown_id + can_fd +
-           error_frame + remote_frame + alive_mismatch + invalid_signal + resync + skipped +
-           silence;
+    return lost + duplicate + out_of_order + bad_crc + wrong_length + can_fd + error_frame +
+           remote_frame + alive_mismatch + invalid_signal + resync + skipped + silence;
   }
 };
 
 struct CheckResult {
-  FrameVerdict verdict = FrameVerdict::unknown_id;
+  FrameVerdict verdict = FrameVerdict::foreign_frame;
   std::uint16_t lost_samples = 0;     // accepted: samples lost just before this one (to be held)
   std::uint16_t skipped_samples = 0;  // accepted after a forward resync: samples not filled in
   bool resync = false;                // accepted after a gap beyond max_gap
@@ -115,6 +116,9 @@ struct CheckResult {
 struct CheckerConfig {
   std::uint16_t max_gap = 100;                   // samples held at most per gap (0.1 s at 1 kHz)
   std::uint64_t silence_timeout_ns = 100000000;  // 0.1 s without an accepted frame: silence
+  // false: the sender has no E2E protection (a plain sensor: a_u in bytes 4-5, bytes 0..3 not
+  // checked); no CRC, alive or sample counter checks, every SeatInput frame is the next sample.
+  bool e2e = true;
 };
 
 class ReceiveChecker {
@@ -138,7 +142,7 @@ class ReceiveChecker {
   CheckResult check(const Frame& frame, std::uint64_t now_ns) noexcept {
     CheckResult result;
     ++counters_.frames;
-    result.verdict = classify(frame);
+    result.verdict = classify(frame, config_.e2e);
     if (result.verdict == FrameVerdict::accepted) sequence(frame, now_ns, result);
     count(result);
     return result;
@@ -167,21 +171,27 @@ class ReceiveChecker {
     return false;
   }
 
-  static FrameVerdict classify(const Frame& frame) noexcept {
+  static FrameVerdict classify(const Frame& frame, bool e2e) noexcept {
     if (frame.flags & kErrorFrame) return FrameVerdict::error_frame;
     if (frame.flags & kRemote) return FrameVerdict::remote_frame;
     if (frame.flags & kFd) return FrameVerdict::can_fd;
-    if (frame.flags & kExtendedId) return FrameVerdict::unknown_id;
+    if (frame.flags & kExtendedId) return FrameVerdict::foreign_frame;
     if (frame.id != kSeatInput.id) {
-      return is_output_id(frame.id) ? FrameVerdict::ignored_output : FrameVerdict::unknown_id;
+      return is_output_id(frame.id) ? FrameVerdict::ignored_output : FrameVerdict::foreign_frame;
     }
     if (frame.length != kPayloadLength) return FrameVerdict::wrong_length;
-    if (!crc_ok(kSeatInput, frame.data)) return FrameVerdict::bad_crc;
+    if (e2e && !crc_ok(kSeatInput, frame.data)) return FrameVerdict::bad_crc;
     return FrameVerdict::accepted;
   }
 
   void sequence(const Frame& frame, std::uint64_t now_ns, CheckResult& result) noexcept {
     result.payload = decode_payload(frame.data);
+    if (!config_.e2e) {
+      // No counters on the wire: the frame is the next sample (what the node numbers it by).
+      result.payload.sample_counter = synced_ ? static_cast<std::uint16_t>(last_counter_ + 1u) : 0;
+      result.payload.alive_counter = static_cast<std::uint8_t>((last_alive_ + 1u) & 0x0Fu);
+      result.payload.flags = 0;
+    }
     const Payload& p = result.payload;
     const bool available = !not_available(kSeatInput.signals[0], p.words[0]);
     if (!synced_ && !available) {  // nothing to hold yet, and no counter to trust
@@ -254,8 +264,8 @@ class ReceiveChecker {
       case FrameVerdict::wrong_length:
         ++c.wrong_length;
         break;
-      case FrameVerdict::unknown_id:
-        ++c.unknown_id;
+      case FrameVerdict::foreign_frame:
+        ++c.foreign_frames;
         break;
       case FrameVerdict::can_fd:
         ++c.can_fd;

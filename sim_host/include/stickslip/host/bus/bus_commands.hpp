@@ -25,17 +25,47 @@ struct BusRecording {
   double dt_s = 0.0;               // the node's sample interval
   std::uint64_t saturated = 0;     // samples clipped by the encoder (CSV input)
   std::string recording_note;      // what reading did to the samples (recording_source.hpp)
+  // A log's own time stamp (us since its epoch) and interface of every frame; empty for a CSV.
+  std::vector<LoggedFrame> logged;
+  // Where dt_s came from: "log" (its SeatInput time stamps), "--dt" (given, and the log agrees
+  // or shows no rate), "csv" (the file's t column).
+  std::string dt_source = "csv";
 };
+
+// How far a log's rate may be from --dt (relative) and still be the same rate: 1 %, room for
+// a sender clock that is off by a little and for 1 us time stamps at up to 10 kHz.
+inline constexpr double kLogRateTolerance = 0.01;
+
+// The sample interval a log's SeatInput frames show: the median of the intervals between
+// consecutive ones (robust to jitter and to a few lost frames), in s; 0 when there are fewer
+// than two or their time stamps do not advance.
+double log_sample_interval_s(const std::vector<LoggedFrame>& logged);
+
+// The interval the node runs a log at. With a rate in the log: --dt when given and within
+// kLogRateTolerance of it (UsageError naming both when not), else the log's. Without: --dt.
+struct LogInterval {
+  double dt_s;
+  const char* source;  // "log" or "--dt"
+};
+LogInterval choose_log_interval(const std::string& path, double log_interval_s, double dt_s,
+                                bool dt_given);
 
 // A recording as simulate reads it (recording_source.hpp): one SeatInput frame per sample,
 // counter = n mod 2^16.
 BusRecording frames_from_csv(const std::string& path, const RecordingOptions& recording = {});
-// candump log (by read_candump_log): every frame as logged, whatever it is; dt_s given.
-BusRecording frames_from_log(const std::string& path, double dt_s);
+// candump log (by read_candump_log): every frame as logged, whatever it is; the interval by
+// choose_log_interval(), or dt_s when `log_times` is false (time stamps that are not the
+// stream's: a capture of a stream played faster than real time).
+BusRecording frames_from_log(const std::string& path, double dt_s, bool dt_given = false,
+                             bool log_times = true);
 // By extension: ".log" without --dbc is a candump log of SeatInput frames, anything else a
 // recording as simulate reads it.
 BusRecording read_bus_recording(const std::string& path, double log_dt_s,
-                                const RecordingOptions& recording = {});
+                                const RecordingOptions& recording = {}, bool dt_given = false,
+                                bool log_times = true);
+
+// Microseconds since the Unix epoch now (CLOCK_REALTIME): where logs the tools write start.
+std::uint64_t realtime_now_us();
 
 // Called after every frame with the frames done so far and the total (0: open-ended, as ecu
 // without --frames); the caller limits how often it prints. A plain function and its context,
@@ -57,9 +87,27 @@ struct ReplayRequest {
   std::string output_path;
   std::string output_log_path;  // empty: none; else every frame on the bus as a candump log
   double log_dt_s = 1e-3;       // sample interval of a candump-log input
+  bool log_dt_given = false;    // --dt (or a scene's rate) was given: a log must agree with it
+  // false: a log runs at its own rate (choose_log_interval) and the output log keeps every
+  // logged frame's own time stamp and interface (the node's outputs take those of the frame
+  // they answer). true: the log's time stamps are not the stream's (a capture of a stream
+  // played faster than real time): it runs at log_dt_s, and the frames are timed n * dt from
+  // the start (CLOCK_REALTIME) on the bus's interface, as a CSV input always is.
+  bool retime = false;
+  unsigned output_every = 1;  // the node's output cycle (EcuNodeConfig)
+  OutputSet outputs = OutputSet::full;
   can::CheckerConfig checker;
   int receive_timeout_ms = 1000;  // per frame: longer is counted as silence and the replay goes on
   BusProgress progress;           // empty: none
+};
+
+// The bits on the wire of the classic frames a run put on the bus (can/frame_bits.hpp); error
+// and CAN FD frames are not counted.
+struct BusLoad {
+  std::uint64_t frames = 0;
+  std::uint64_t bits_exact = 0;
+  std::uint64_t bits_worst_case = 0;
+  void add(const can::Frame& frame);
 };
 
 struct ReplayResult {
@@ -73,6 +121,7 @@ struct ReplayResult {
   std::uint64_t input_saturated = 0;
   std::uint64_t output_frames = 0;           // sent by the node
   std::uint64_t output_frames_received = 0;  // seen back by the sender
+  BusLoad bus_load;                          // everything sent on the bus
   std::string stats_json;                    // one line: simulate's keys, then bus and faults
 };
 
@@ -90,6 +139,8 @@ struct EcuRequest {
   std::uint64_t max_frames = 0;
   std::string output_path;        // empty: no CSV
   std::string sample_index_path;  // empty: none; else n,sample,held for every row (NodeTrace)
+  unsigned output_every = 1;      // the node's output cycle (EcuNodeConfig)
+  OutputSet outputs = OutputSet::full;
   can::CheckerConfig checker;
   int poll_ms = 20;  // receive timeout between checks of `stop`
   // SocketCAN SO_RCVBUF in bytes (0: the kernel's default; the kernel doubles it, up to twice
@@ -129,6 +180,7 @@ struct PlayRequest {
   std::string bus;
   double speed = 1.0;      // frame i goes out at i * dt / speed after the start
   double log_dt_s = 1e-3;  // sample interval of a candump-log input
+  bool log_dt_given = false;
   const volatile std::sig_atomic_t* stop = nullptr;
   BusProgress progress;  // empty: none
 };
@@ -155,6 +207,9 @@ struct RecordRequest {
   RecordingOptions recording;
   std::string output_path;
   std::string interface = "vcan0";
+  // The log's first time stamp, s since the Unix epoch; negative: the wall clock
+  // (CLOCK_REALTIME) when record starts. Frame n is at start + (t_n - t_0) of the CSV.
+  double start_time_s = -1.0;
 };
 
 // Returns the number of frames written and sets `saturated` to the clipped samples.

@@ -9,18 +9,26 @@
 #include <string>
 #include <vector>
 
+#include "stickslip/can/codec.hpp"
 #include "stickslip/can/frame.hpp"
 #include "stickslip/can/receive_checker.hpp"
 #include "stickslip/host/run/simulation.hpp"
 
 namespace stickslip::host {
 
+// The messages the node publishes (docs/CAN.md, "Bus load"): full = SeatMotion and SeatForce
+// every output cycle, SeatStats and SeatScene every stats cycle; reduced = SeatMotion and
+// SeatStats only, for 250 and 500 kbit/s buses.
+enum class OutputSet { full, reduced };
+
 struct EcuNodeConfig {
   SimulationSetup setup;  // params (dt_s = the sample interval of the stream), x0, v0
   ScalarType scalar = ScalarType::float64;
   can::CheckerConfig checker;
   unsigned stats_every = 10;  // SeatStats/SeatScene every this many samples (>= 1)
-  bool keep_trace = true;     // store every sample (rows) for a CSV; off for an endless ecu run
+  unsigned output_every = 1;  // SeatMotion/SeatForce every this many samples (>= 1)
+  OutputSet outputs = OutputSet::full;
+  bool keep_trace = true;  // store every sample (rows) for a CSV; off for an endless ecu run
 };
 
 // One output sample of the node, as simulate writes it (double holds a float run exactly).
@@ -72,6 +80,8 @@ class EcuNode {
  private:
   void emit(double a_u, bool held, bool resync, std::int64_t sample,
             std::vector<can::Frame>& outputs);
+  void publish(double x_r, double v_r, double a_x, double f_f, bool stuck, bool held, bool resync,
+               std::uint64_t index, std::vector<can::Frame>& outputs);
 
   EcuNodeConfig config_;
   can::ReceiveChecker checker_;
@@ -86,6 +96,11 @@ class EcuNode {
   double busy_s_ = 0.0;
   std::uint8_t alive_[4] = {0, 0, 0, 0};
 };
+
+// One output frame of `message` for sample `sample_counter`; advances the message's `alive`
+// counter and sets the saturation flag when quantise() clipped a signal.
+can::Frame output_frame(const can::MessageSpec& message, std::uint16_t sample_counter,
+                        std::uint8_t& alive, std::uint8_t flags, double first, double second);
 
 // Empty when the node runs `scalar` (double, float, fixed); else why not, as one line naming the
 // choice: fixed32 (Q7.24 in scene units) is the Cortex-M0+ firmware's scalar, not the host node's.

@@ -61,9 +61,9 @@ LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<d
   options.linear_solver_type = ceres::DENSE_QR;
   options.max_num_iterations = max_iterations;
   // The unknowns are of order 1 and their 95 % intervals are wider than 1e-4 of them: stopping at
-  // a relative change of 1e-8 in u or 1e-10 in the cost is well inside every interval.
-  options.function_tolerance = 1e-10;
-  options.parameter_tolerance = 1e-8;
+  // a relative change of 1e-6 in u or 1e-8 in the cost is well inside every interval.
+  options.function_tolerance = 1e-8;
+  options.parameter_tolerance = 1e-6;
   options.gradient_tolerance = 1e-12;
   options.num_threads = 1;
   options.logging_type = ceres::SILENT;

@@ -290,7 +290,8 @@ void measure_model(FitResult& result, const Attempt& best, const RigRecording& r
   SimulationSummary summary;
   if (!fit_residuals(best.problem, best.fit.u.data(), residuals, &trace, &summary))
     throw HostError(rig.path + ": the fitted parameters are refused by the model");
-  check_alignment(rig, trace.a_x_m_per_s2);
+  // (a fit that did not converge reports that; its model says nothing about the channels)
+  if (best.fit.converged) check_alignment(rig, trace.a_x_m_per_s2);
   const std::size_t samples = rig.a_x_m_per_s2.size();
   result.residual_m_per_s2.assign(residuals.begin(),
                                   residuals.begin() + static_cast<std::ptrdiff_t>(samples));

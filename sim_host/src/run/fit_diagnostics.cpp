@@ -37,7 +37,7 @@ long best_lag_samples(const std::vector<double>& measured, const std::vector<dou
 void check_alignment(const RigRecording& rig, const std::vector<double>& model_a_x) {
   const long lag = best_lag_samples(rig.a_x_m_per_s2, model_a_x, rig.dt_s);
   const double lag_s = static_cast<double>(lag) * rig.dt_s;
-  if (std::labs(lag) < 2 || std::fabs(lag_s) < 2e-3) return;
+  if (std::labs(lag) < 3 || std::fabs(lag_s) < 3e-3) return;
   throw HostError(fmt::format(
       "{}: a_x is shifted by {} samples ({:.4g} ms, {}) against a_u: the measured a_x matches the "
       "model best at that lag; align the channels (a seat model cannot delay its response)",

@@ -16,7 +16,7 @@ namespace stickslip::host {
 long best_lag_samples(const std::vector<double>& measured, const std::vector<double>& model,
                       double dt_s);
 
-// Throws HostError "FILE: a_x is shifted ..." when the lag is 2 samples and 2 ms or more: a
+// Throws HostError "FILE: a_x is shifted ..." when the lag is 3 samples and 3 ms or more: a
 // delay is nothing a seat model can reproduce, so the estimates would be wrong.
 void check_alignment(const RigRecording& rig, const std::vector<double>& model_a_x);
 

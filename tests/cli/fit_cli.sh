@@ -57,6 +57,12 @@ ls | grep -q tmp && fail "a temporary file was left: $(ls)"
 [ "$(tail -1 units.txt | sed 's/"seconds":[^,]*,//')" = "$(tail -1 out.txt | sed 's/"seconds":[^,]*,//')" ] ||
   fail "the file with units in its header fits differently"
 
+# Identifiability reported: at K = 0.05 the seat hardly ever sticks, so F_fs is not seen.
+"$validation" --write-rig nostick.csv --seed 2 --K 0.05 --duration 30
+"$stickslip" fit --input nostick.csv --mass 88.4 >nostick.txt
+grep -q "^warning: ffk and ffs cannot be told apart on this recording" nostick.txt ||
+  fail "no identifiability warning at K = 0.05: $(cat nostick.txt)"
+
 # Not converged: says so, status 1, no estimates.
 refuses 1 "the fit did not converge after 1 iterations" --input rig.csv --mass 88.4 --max-iterations 1
 

@@ -70,6 +70,19 @@ std::vector<std::string> fit_warnings(const FitResult& result, const FitCovarian
         "cannot be told apart here");
   }
   for (std::size_t i = 0; i < count; ++i) {
+    const bool static_on_kinetic =
+        result.order[i] == FitParameter::ffs && u[i] <= box.lower[i] + 1e-9 &&
+        std::find(result.order.begin(), result.order.end(), FitParameter::ffk) !=
+            result.order.end();
+    if (static_on_kinetic && !(relative_ci(result, i) <= 0.2)) {
+      warnings.push_back(fmt::format(
+          "ffk and ffs cannot be told apart on this recording: the fit puts ffs on ffk ({:.4g} N, "
+          "the lowest it may be) with a 95 % interval of +-{:.3g} N; too few break-aways reach "
+          "the static force",
+          result.value[static_cast<std::size_t>(FitParameter::ffs)],
+          result.ci95[static_cast<std::size_t>(FitParameter::ffs)]));
+      continue;
+    }
     if (covariance.no_influence[i]) {
       warnings.push_back(
           fmt::format("{} has no influence on the model on this recording: not identifiable",

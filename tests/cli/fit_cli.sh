@@ -75,7 +75,8 @@ refuses 1 "column 'a_x' is in g but the fit needs m/s^2; multiply it by 9.80665"
 refuses 1 "a_x looks like it is in g, not m/s^2" --input g_unnamed.csv --mass 88.4
 "$validation" --write-rig late.csv --seed 11 --K 0.8 --duration 60 --shift-samples 40
 refuses 1 "a_x is shifted by" --input late.csv --mass 88.4
-refuses 2 "--fit mass: without a travel column x_r" --input rig.csv --fit mass,stiffness
+refuses 2 "--fit mass: a_u, a_x and x_r fix only k/m, b/m and F/m" --input rig.csv --fit mass,stiffness
 refuses 2 "--fit: the linear model has no parameter ffk" --input rig.csv --mass 88.4 --model linear --fit stiffness,ffk
 refuses 2 "--mass: the seat's mass (kg) is needed" --input rig.csv
+refuses 2 "--fit: unknown parameter 'friction'" --input rig.csv --mass 88.4 --fit stiffness,friction
 echo "fit_cli: all checks passed"

@@ -73,10 +73,11 @@ class FitCommand : public Command {
         ->required();
     fit.add_option("--model", model_, "stick-slip | stribeck | linear | signum")
         ->default_str("stick-slip");
-    fit.add_option("--mass", request_.mass_kg, "the seat's mass, kg (start value with --fit mass)");
+    fit.add_option("--mass", request_.mass_kg,
+                   "the seat's mass, kg (a_u, a_x and x_r fix only k/m, b/m and F/m)");
     fit.add_option("--fit", fit_,
-                   "parameters to estimate, comma-separated: mass (needs x_r), stiffness, "
-                   "damping, ffk, ffs, stribeck-velocity (default: the model's all but mass)")
+                   "parameters to estimate, comma-separated: stiffness, damping, ffk, ffs, "
+                   "stribeck-velocity (default: all the model has)")
         ->delimiter(',');
     fit.add_option("--start", start_,
                    "NAME=VALUE (SI): start of a fitted parameter, or the value of one not fitted "

@@ -39,7 +39,7 @@ bool model_has(FrictionModel model, FitParameter parameter) {
   }
 }
 
-void check_request(const RigRecording& rig, const FitRequest& request) {
+void check_request(const FitRequest& request) {
   if (request.model != FrictionModel::stick_slip && request.model != FrictionModel::stribeck &&
       request.model != FrictionModel::linear && request.model != FrictionModel::signum) {
     throw UsageError("--model: fit knows stick-slip, stribeck, linear and signum");
@@ -50,13 +50,15 @@ void check_request(const RigRecording& rig, const FitRequest& request) {
                                    model_name(request.model), kNames[i]));
     }
   }
-  if (request.fit[at(FitParameter::mass)] && !rig.has_travel()) {
+  // m a_x = -(k x_r + b v_r + F_f): scaling m, k, b, F_fk and F_fs by one factor leaves x_r, v_r
+  // and a_x unchanged, so no recording of a_u, a_x and x_r fixes the mass (a force would).
+  if (request.fit[at(FitParameter::mass)]) {
     throw UsageError(
-        "--fit mass: without a travel column x_r the accelerations fix only k/m, b/m and F/m; "
-        "give the mass with --mass");
+        "--fit mass: a_u, a_x and x_r fix only k/m, b/m and F/m (scaling m, k, b, F_fk and F_fs "
+        "together leaves the motion unchanged), so the mass cannot be fitted from them; give it "
+        "with --mass");
   }
-  if (!request.fit[at(FitParameter::mass)] && !(request.mass_kg > 0.0))
-    throw UsageError("--mass: the seat's mass (kg) is needed unless --fit mass");
+  if (!(request.mass_kg > 0.0)) throw UsageError("--mass: the seat's mass (kg) is needed");
   if (std::none_of(request.fit.begin(), request.fit.end(), [](bool fit) { return fit; }))
     throw UsageError("--fit: name at least one parameter to fit");
 }
@@ -118,7 +120,7 @@ FitProblem make_problem(const RigRecording& rig, const FitRequest& request,
   problem.base.model = request.model;
   problem.base.integrator = Integrator::exact;
   problem.base.dt_s = rig.dt_s;
-  if (!request.fit[at(FitParameter::mass)]) problem.base.mass_kg = request.mass_kg;
+  problem.base.mass_kg = request.mass_kg;
   for (std::size_t i = 0; i < kFitParameterCount; ++i)
     if (request.fit[i]) problem.order.push_back(static_cast<FitParameter>(i));
   problem.static_excess = request.fit[at(FitParameter::ffk)] && request.fit[at(FitParameter::ffs)];
@@ -239,7 +241,7 @@ void polish(Attempt& attempt, const FitRequest& request) {
 }
 
 // Levenberg-Marquardt from the best start of the scan; from the next ones (other stiffnesses) as
-// well while the best leaves a residual 10 % above the sensor noise (a local minimum).
+// well while the best leaves a residual 3 % above the sensor noise (a local minimum).
 Attempt solve_from_starts(const FitProblem& base, const FitRequest& request,
                           const std::vector<Candidate>& candidates, const RigInspection& data,
                           std::size_t samples) {
@@ -256,7 +258,7 @@ Attempt solve_from_starts(const FitProblem& base, const FitRequest& request,
     // at the truth the residual is a_x's noise, and a_u's too where the seat is stuck
     const double noise = std::sqrt(std::pow(data.a_x_noise_m_per_s2, 2.0) +
                                    data.stuck_share * std::pow(data.a_u_noise_m_per_s2, 2.0));
-    if (best.fit.converged && rms < 1.1 * std::max(noise, 1e-6)) break;
+    if (best.fit.converged && rms < 1.03 * std::max(noise, 1e-6)) break;
   }
   return best;
 }
@@ -314,12 +316,10 @@ void measure_model(FitResult& result, const Attempt& best, const RigRecording& r
 
 FitResult fit_seat(const RigRecording& rig, const FitRequest& request) {
   const auto begin = std::chrono::steady_clock::now();
-  check_request(rig, request);
+  check_request(request);
   const RigInspection data = inspect_rig(rig);
-  const bool fits_mass = request.fit[at(FitParameter::mass)];
-  const double mass = fits_mass && !(request.mass_kg > 0.0) ? 80.0 : request.mass_kg;
+  const double mass = request.mass_kg;
   FitProblem problem = make_problem(rig, request, data);
-  if (fits_mass) problem.base.mass_kg = mass;
   const std::array<double, kFitParameterCount> centre = spectral_start(request, data, mass);
   const std::vector<Candidate> candidates = scan_starts(problem, request, centre, data, mass);
   if (!std::isfinite(candidates.front().cost))

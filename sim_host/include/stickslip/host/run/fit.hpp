@@ -1,4 +1,4 @@
-// `stickslip fit`: identifies the seat (k, b, F_fk, F_fs, v_S, optionally m) from a rig recording
+// `stickslip fit`: identifies the seat (k, b, F_fk, F_fs, v_S; m given) from a rig recording
 // by nonlinear least squares on the a_x residual (and the travel residual when x_r is recorded).
 // Every model evaluation is the exact simulation of the whole recording (simulate_signal(), the
 // core's oscillator with the exact integrator, from rest); Ceres Solver's Levenberg-Marquardt
@@ -34,7 +34,7 @@ bool parse_fit_parameter(const std::string& name, FitParameter& out) noexcept;
 
 struct FitRequest {
   FrictionModel model = FrictionModel::stick_slip;
-  double mass_kg = 0.0;  // known mass; with `fit mass`, its start value (0: 80 kg)
+  double mass_kg = 0.0;  // known mass (fit[mass] is refused: the motion fixes only k/m, b/m, F/m)
   // Which parameters to estimate; the others keep `fixed` (mass: mass_kg).
   std::array<bool, kFitParameterCount> fit{};
   // Start values (0: automatic, from the data) and bounds (0: automatic), SI units.
@@ -72,8 +72,8 @@ struct FitResult {
 
 // Checks the recording (plausible units, channels aligned against the fitted model) and fits.
 // Throws HostError for data that cannot be fitted (one line naming the file and the problem) and
-// UsageError for a request that makes no sense (mass fitted without travel, a parameter the
-// model does not have). A fit that stops without converging returns converged = false.
+// UsageError for a request that makes no sense (the mass fitted, a parameter the model does not
+// have). A fit that stops without converging returns converged = false.
 FitResult fit_seat(const RigRecording& rig, const FitRequest& request);
 
 }  // namespace stickslip::host

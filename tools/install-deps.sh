@@ -10,6 +10,8 @@ set -euo pipefail
 
 packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev
           libtomlplusplus-dev libmatio-dev pkg-config parallel
+          # Ceres Solver: the least squares of `stickslip fit` (run/fit_solver.cpp).
+          libceres-dev
           gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   # clang-format (version 14 in Debian 12): tools/format.sh and the CTest test format.check.
   clang-format

@@ -78,6 +78,10 @@ const struct Subcommand {
      "What a recording holds (channels or CAN signals, units, rate, jitter, gaps, full-scale "
      "runs, NaNs) and the simulate command that reads it",
      make_inspect_command},
+    {"fit",
+     "Identify the seat (k, b, F_fk, F_fs, ...) from a rig recording t,a_u,a_x[,x_r] by least "
+     "squares on the exact simulation; estimates with 95 % intervals, JSON line last",
+     make_fit_command},
 };
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
@@ -143,7 +147,8 @@ void refuse_unknown_options(const CLI::App& command, int argc, char** argv) {
 
 // The options whose files a command reads, and those it writes.
 constexpr const char* kInputOptions[] = {"--input", "--scene", "shards"};
-constexpr const char* kOutputOptions[] = {"--output", "--stats", "--output-log", "--sample-index"};
+constexpr const char* kOutputOptions[] = {"--output", "--stats", "--output-log", "--sample-index",
+                                          "--plot"};
 
 std::vector<std::pair<std::string, std::string>> given_files(const CLI::App& command,
                                                              const char* const* names,

@@ -1,0 +1,340 @@
+#include "stickslip/host/run/fit.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "fit_diagnostics.hpp"
+#include "fit_problem.hpp"
+#include "fit_solver.hpp"
+#include "fit_start.hpp"
+#include "stickslip/host/error.hpp"
+
+namespace stickslip::host {
+namespace {
+
+constexpr const char* kNames[kFitParameterCount] = {"mass", "stiffness", "damping",
+                                                    "ffk",  "ffs",       "stribeck_velocity"};
+constexpr const char* kUnits[kFitParameterCount] = {"kg", "N/m", "N s/m", "N", "N", "m/s"};
+constexpr double kPi = 3.14159265358979323846;
+
+std::size_t at(FitParameter parameter) {
+  return static_cast<std::size_t>(parameter);
+}
+
+bool model_has(FrictionModel model, FitParameter parameter) {
+  switch (parameter) {
+    case FitParameter::ffk:
+      return model != FrictionModel::linear;
+    case FitParameter::ffs:
+      return model == FrictionModel::stick_slip || model == FrictionModel::stribeck;
+    case FitParameter::stribeck_velocity:
+      return model == FrictionModel::stribeck;
+    default:
+      return true;
+  }
+}
+
+void check_request(const FitRequest& request) {
+  if (request.model != FrictionModel::stick_slip && request.model != FrictionModel::stribeck &&
+      request.model != FrictionModel::linear && request.model != FrictionModel::signum) {
+    throw UsageError("--model: fit knows stick-slip, stribeck, linear and signum");
+  }
+  for (std::size_t i = 0; i < kFitParameterCount; ++i) {
+    if (request.fit[i] && !model_has(request.model, static_cast<FitParameter>(i))) {
+      throw UsageError(fmt::format("--fit: the {} model has no parameter {}",
+                                   model_name(request.model), kNames[i]));
+    }
+  }
+  // m a_x = -(k x_r + b v_r + F_f): scaling m, k, b, F_fk and F_fs by one factor leaves x_r, v_r
+  // and a_x unchanged, so no recording of a_u, a_x and x_r fixes the mass (a force would).
+  if (request.fit[at(FitParameter::mass)]) {
+    throw UsageError(
+        "--fit mass: a_u, a_x and x_r fix only k/m, b/m and F/m (scaling m, k, b, F_fk and F_fs "
+        "together leaves the motion unchanged), so the mass cannot be fitted from them; give it "
+        "with --mass");
+  }
+  if (!(request.mass_kg > 0.0)) throw UsageError("--mass: the seat's mass (kg) is needed");
+  if (std::none_of(request.fit.begin(), request.fit.end(), [](bool fit) { return fit; }))
+    throw UsageError("--fit: name at least one parameter to fit");
+}
+
+// The automatic start: k from the peak of |a_x/a_u|, b from its height (for a linear seat the
+// peak gain is sqrt(1 + 4 zeta^2) / (2 zeta)), friction from a scan of K = F_fk / (m rms_u).
+struct Candidate {
+  std::array<double, kFitParameterCount> value{};
+  double cost = 0.0;
+};
+
+std::array<double, kFitParameterCount> spectral_start(const FitRequest& request,
+                                                      const RigInspection& data, double mass) {
+  std::array<double, kFitParameterCount> start{};
+  const double peak_hz = data.peak_hz > 0.0 ? data.peak_hz : 1.8;
+  start[at(FitParameter::mass)] = mass;
+  start[at(FitParameter::stiffness)] = mass * std::pow(2.0 * kPi * peak_hz, 2.0);
+  const double excess = std::max(data.peak_gain * data.peak_gain - 1.0, 0.05);
+  const double zeta = std::clamp(0.5 / std::sqrt(excess), 0.05, 1.0);
+  start[at(FitParameter::damping)] =
+      2.0 * zeta * std::sqrt(start[at(FitParameter::stiffness)] * mass);
+  const double friction = 0.5 * mass * data.rms_u_m_per_s2;
+  start[at(FitParameter::ffk)] = friction;
+  start[at(FitParameter::ffs)] = std::max(1.1 * friction, mass * data.static_force_bound_per_kg);
+  start[at(FitParameter::stribeck_velocity)] = 0.005;
+  for (std::size_t i = 0; i < kFitParameterCount; ++i)
+    if (request.start[i] > 0.0) start[i] = request.start[i];
+  return start;
+}
+
+}  // namespace
+
+const char* fit_parameter_name(FitParameter parameter) noexcept {
+  return kNames[at(parameter)];
+}
+
+const char* fit_parameter_unit(FitParameter parameter) noexcept {
+  return kUnits[at(parameter)];
+}
+
+bool parse_fit_parameter(const std::string& name, FitParameter& out) noexcept {
+  const std::string key = name == "stribeck-velocity" ? "stribeck_velocity" : name;
+  for (std::size_t i = 0; i < kFitParameterCount; ++i) {
+    if (key == kNames[i]) {
+      out = static_cast<FitParameter>(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+namespace {
+
+FitProblem make_problem(const RigRecording& rig, const FitRequest& request,
+                        const RigInspection& data) {
+  FitProblem problem;
+  problem.rig = &rig;
+  problem.base = request.fixed;
+  problem.base.model = request.model;
+  problem.base.integrator = Integrator::exact;
+  problem.base.dt_s = rig.dt_s;
+  problem.base.mass_kg = request.mass_kg;
+  for (std::size_t i = 0; i < kFitParameterCount; ++i)
+    if (request.fit[i]) problem.order.push_back(static_cast<FitParameter>(i));
+  problem.static_excess = request.fit[at(FitParameter::ffk)] && request.fit[at(FitParameter::ffs)];
+  problem.travel_weight = std::max(data.a_x_noise_m_per_s2, 1e-6) / request.travel_noise_m;
+  return problem;
+}
+
+// Scales the unknowns to the candidate's values (u = 1 there).
+std::vector<double> set_scales(FitProblem& problem,
+                               const std::array<double, kFitParameterCount>& v) {
+  problem.scale.clear();
+  for (FitParameter parameter : problem.order) {
+    double value = v[at(parameter)];
+    if (parameter == FitParameter::ffs && problem.static_excess)
+      value = std::max(v[at(FitParameter::ffs)] - v[at(FitParameter::ffk)],
+                       0.1 * v[at(FitParameter::ffk)]);
+    problem.scale.push_back(value > 0.0 ? value : 1.0);
+  }
+  std::vector<double> u(problem.order.size(), 1.0);
+  if (problem.static_excess) {
+    const std::size_t i = static_cast<std::size_t>(
+        std::find(problem.order.begin(), problem.order.end(), FitParameter::ffs) -
+        problem.order.begin());
+    u[i] = std::max(v[at(FitParameter::ffs)] - v[at(FitParameter::ffk)], 0.0) / problem.scale[i];
+  }
+  return u;
+}
+
+double cost_at(const FitProblem& problem, const std::vector<double>& u) {
+  std::vector<double> residuals;
+  if (!fit_residuals(problem, u.data(), residuals)) return std::numeric_limits<double>::infinity();
+  return std::inner_product(residuals.begin(), residuals.end(), residuals.begin(), 0.0);
+}
+
+// The global stage: the natural frequency f_n = sqrt(k/m)/(2 pi) from 0.7 to 2.8 Hz (a seat
+// that sticks most of the time shows no resonance in |a_x/a_u|, so the spectral peak alone is no
+// safe start) and the spectral one, damping x {0.5, 1}, K from 0.15 to 2.7, for what is fitted
+// without a given start. Returns, for each stiffness, its best candidate, best first.
+std::vector<Candidate> scan_starts(FitProblem& problem, const FitRequest& request,
+                                   const std::array<double, kFitParameterCount>& centre,
+                                   const RigInspection& data, double mass) {
+  const auto scanned = [&](FitParameter p) {
+    return request.fit[at(p)] && !(request.start[at(p)] > 0.0);
+  };
+  std::vector<double> stiffness = {centre[at(FitParameter::stiffness)]};
+  if (scanned(FitParameter::stiffness))
+    for (double f_hz : {0.7, 1.0, 1.4, 2.0, 2.8})
+      stiffness.push_back(mass * std::pow(2.0 * kPi * f_hz, 2.0));
+  const std::vector<double> damping =
+      scanned(FitParameter::damping) ? std::vector<double>{0.5, 1.0} : std::vector<double>{1.0};
+  std::vector<double> friction = {0.0};
+  if (scanned(FitParameter::ffk)) friction = {0.15, 0.3, 0.5, 0.8, 1.2, 1.8, 2.7};
+  std::vector<Candidate> best_per_stiffness;
+  for (double k : stiffness) {
+    Candidate best{centre, std::numeric_limits<double>::infinity()};
+    for (double bs : damping) {
+      for (double k_factor : friction) {
+        Candidate candidate{centre, 0.0};
+        candidate.value[at(FitParameter::stiffness)] = k;
+        // the same damping ratio as the spectral start
+        candidate.value[at(FitParameter::damping)] *=
+            bs * std::sqrt(k / centre[at(FitParameter::stiffness)]);
+        if (k_factor > 0.0) {
+          const double ffk = k_factor * mass * data.rms_u_m_per_s2;
+          candidate.value[at(FitParameter::ffk)] = ffk;
+          if (!(request.start[at(FitParameter::ffs)] > 0.0)) {
+            candidate.value[at(FitParameter::ffs)] =
+                std::max(1.1 * ffk, mass * data.static_force_bound_per_kg);
+          }
+        }
+        candidate.cost = cost_at(problem, set_scales(problem, candidate.value));
+        if (candidate.cost < best.cost) best = candidate;
+      }
+    }
+    best_per_stiffness.push_back(best);
+  }
+  std::sort(best_per_stiffness.begin(), best_per_stiffness.end(),
+            [](const Candidate& a, const Candidate& b) { return a.cost < b.cost; });
+  return best_per_stiffness;
+}
+
+FitBox make_box(const FitProblem& problem, const FitRequest& request) {
+  FitBox box;
+  for (std::size_t i = 0; i < problem.order.size(); ++i) {
+    const FitParameter parameter = problem.order[i];
+    const bool positive = parameter == FitParameter::mass || parameter == FitParameter::stiffness ||
+                          parameter == FitParameter::stribeck_velocity;
+    double lower = positive ? 1e-3 : 0.0, upper = 50.0;
+    const bool excess = parameter == FitParameter::ffs && problem.static_excess;
+    if (!excess && request.lower[at(parameter)] > 0.0)
+      lower = request.lower[at(parameter)] / problem.scale[i];
+    if (!excess && request.upper[at(parameter)] > 0.0)
+      upper = request.upper[at(parameter)] / problem.scale[i];
+    box.lower.push_back(lower);
+    box.upper.push_back(upper);
+  }
+  return box;
+}
+
+struct Attempt {
+  FitProblem problem;
+  FitBox box;
+  LocalFit fit;
+};
+
+// The cost is only piecewise smooth (a sample's a_x jumps where a stick moves across it), so a
+// trust region can shrink to nothing at a kink short of the minimum: restarting from there with a
+// fresh region continues, until a restart gains less than 1e-6 of the cost (at most 5 times).
+void polish(Attempt& attempt, const FitRequest& request) {
+  for (int restart = 0; restart < 5 && attempt.fit.converged; ++restart) {
+    LocalFit next =
+        solve_local(attempt.problem, attempt.box, attempt.fit.u, request.max_iterations);
+    next.iterations += attempt.fit.iterations;
+    const bool gained = next.cost < attempt.fit.cost * (1.0 - 1e-6);
+    if (next.cost <= attempt.fit.cost) attempt.fit = next;
+    if (!gained) break;
+  }
+}
+
+// Levenberg-Marquardt from the best start of the scan; from the next ones (other stiffnesses) as
+// well while the best leaves a residual 3 % above the sensor noise (a local minimum).
+Attempt solve_from_starts(const FitProblem& base, const FitRequest& request,
+                          const std::vector<Candidate>& candidates, const RigInspection& data,
+                          std::size_t samples) {
+  Attempt best;
+  const std::size_t tries = candidates.size();
+  for (std::size_t c = 0; c < tries; ++c) {
+    Attempt attempt{base, {}, {}};
+    const std::vector<double> u0 = set_scales(attempt.problem, candidates[c].value);
+    attempt.box = make_box(attempt.problem, request);
+    attempt.fit = solve_local(attempt.problem, attempt.box, u0, request.max_iterations);
+    polish(attempt, request);
+    if (c == 0 || attempt.fit.cost < best.fit.cost) best = attempt;
+    const double rms = std::sqrt(best.fit.cost / static_cast<double>(samples));
+    // at the truth the residual is a_x's noise, and a_u's too where the seat is stuck
+    const double noise = std::sqrt(std::pow(data.a_x_noise_m_per_s2, 2.0) +
+                                   data.stuck_share * std::pow(data.a_u_noise_m_per_s2, 2.0));
+    if (best.fit.converged && rms < 1.03 * std::max(noise, 1e-6)) break;
+  }
+  return best;
+}
+
+void fill_result(FitResult& result, const Attempt& best, const FitCovariance& covariance) {
+  const std::vector<double> values = fit_values(best.problem, best.fit.u.data());
+  result.params = fit_params(best.problem, best.fit.u.data());
+  result.order = best.problem.order;
+  result.value[at(FitParameter::mass)] = result.params.mass_kg;
+  result.value[at(FitParameter::stiffness)] = result.params.stiffness_n_per_m;
+  result.value[at(FitParameter::damping)] = result.params.damping_ns_per_m;
+  result.value[at(FitParameter::ffk)] = result.params.kinetic_friction_n;
+  result.value[at(FitParameter::ffs)] = result.params.static_friction_n;
+  result.value[at(FitParameter::stribeck_velocity)] = result.params.stribeck_velocity_m_per_s;
+  for (std::size_t i = 0; i < result.order.size(); ++i) {
+    const std::size_t k = at(result.order[i]);
+    result.fitted[k] = true;
+    result.ci95[k] = covariance.ci95[i];
+  }
+  result.correlation = covariance.correlation;
+  result.condition_number = covariance.condition_number;
+  result.iterations = best.fit.iterations;
+  result.converged = best.fit.converged;
+  result.solver_message = best.fit.message;
+}
+
+void measure_model(FitResult& result, const Attempt& best, const RigRecording& rig,
+                   const RigInspection& data) {
+  std::vector<double> residuals;
+  SimulationTrace<double> trace;
+  SimulationSummary summary;
+  if (!fit_residuals(best.problem, best.fit.u.data(), residuals, &trace, &summary))
+    throw HostError(rig.path + ": the fitted parameters are refused by the model");
+  // (a fit that did not converge reports that; its model says nothing about the channels)
+  if (best.fit.converged) check_alignment(rig, trace.a_x_m_per_s2);
+  const std::size_t samples = rig.a_x_m_per_s2.size();
+  result.residual_m_per_s2.assign(residuals.begin(),
+                                  residuals.begin() + static_cast<std::ptrdiff_t>(samples));
+  double sum = 0.0, travel = 0.0;
+  for (std::size_t n = 0; n < samples; ++n) sum += residuals[n] * residuals[n];
+  for (std::size_t n = samples; n < residuals.size(); ++n) travel += residuals[n] * residuals[n];
+  result.rms_residual_m_per_s2 = std::sqrt(sum / static_cast<double>(samples));
+  if (rig.has_travel()) {
+    result.rms_travel_residual_m =
+        std::sqrt(travel / static_cast<double>(samples)) / best.problem.travel_weight;
+  }
+  result.transmissibility_measured = data.rms_x_m_per_s2 / data.rms_u_m_per_s2;
+  result.transmissibility_model = summary.transmissibility;
+  result.stick_probability_measured = data.stuck_share;
+  result.stick_probability_model = summary.stick_probability;
+  result.noise_m_per_s2 = data.a_x_noise_m_per_s2;
+}
+
+}  // namespace
+
+FitResult fit_seat(const RigRecording& rig, const FitRequest& request) {
+  const auto begin = std::chrono::steady_clock::now();
+  check_request(request);
+  const RigInspection data = inspect_rig(rig);
+  const double mass = request.mass_kg;
+  FitProblem problem = make_problem(rig, request, data);
+  const std::array<double, kFitParameterCount> centre = spectral_start(request, data, mass);
+  const std::vector<Candidate> candidates = scan_starts(problem, request, centre, data, mass);
+  if (!std::isfinite(candidates.front().cost))
+    throw HostError(rig.path + ": the model refuses every start value; give --start values");
+  const Attempt best =
+      solve_from_starts(problem, request, candidates, data, rig.a_x_m_per_s2.size());
+  FitResult result;
+  result.start = candidates.front().value;
+  result.starts = static_cast<int>(candidates.size());
+  const FitCovariance covariance = fit_covariance(best.problem, best.fit.u, best.box);
+  fill_result(result, best, covariance);
+  measure_model(result, best, rig, data);
+  result.warnings = fit_warnings(result, covariance, data, best.box, best.fit.u);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return result;
+}
+
+}  // namespace stickslip::host

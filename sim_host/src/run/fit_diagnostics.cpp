@@ -1,0 +1,115 @@
+#include "fit_diagnostics.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+#include "stickslip/host/error.hpp"
+
+namespace stickslip::host {
+
+long best_lag_samples(const std::vector<double>& measured, const std::vector<double>& model,
+                      double dt_s) {
+  const long count = static_cast<long>(std::min(measured.size(), model.size()));
+  const long reach = std::min(static_cast<long>(std::lround(0.25 / dt_s)), count / 4);
+  double best = -1.0;
+  long best_lag = 0;
+  for (long lag = -reach; lag <= reach; ++lag) {
+    double sum = 0.0, measured_energy = 0.0, model_energy = 0.0;
+    for (long n = std::max(0L, -lag); n < count && n + lag < count; ++n) {
+      const double a = measured[static_cast<std::size_t>(n + lag)];
+      const double b = model[static_cast<std::size_t>(n)];
+      sum += a * b;
+      measured_energy += a * a;
+      model_energy += b * b;
+    }
+    const double correlation = sum / std::sqrt(measured_energy * model_energy + 1e-300);
+    if (correlation > best) {
+      best = correlation;
+      best_lag = lag;
+    }
+  }
+  return best_lag;
+}
+
+void check_alignment(const RigRecording& rig, const std::vector<double>& model_a_x) {
+  const long lag = best_lag_samples(rig.a_x_m_per_s2, model_a_x, rig.dt_s);
+  const double lag_s = static_cast<double>(lag) * rig.dt_s;
+  if (std::labs(lag) < 3 || std::fabs(lag_s) < 3e-3) return;
+  throw HostError(fmt::format(
+      "{}: a_x is shifted by {} samples ({:.4g} ms, {}) against a_u: the measured a_x matches the "
+      "model best at that lag; align the channels (a seat model cannot delay its response)",
+      rig.path, std::labs(lag), 1e3 * std::fabs(lag_s), lag > 0 ? "late" : "early"));
+}
+
+namespace {
+
+std::string name_of(const FitResult& result, std::size_t i) {
+  return fit_parameter_name(result.order[i]);
+}
+
+double relative_ci(const FitResult& result, std::size_t i) {
+  const auto k = static_cast<std::size_t>(result.order[i]);
+  return result.ci95[k] / std::fabs(result.value[k]);
+}
+
+}  // namespace
+
+std::vector<std::string> fit_warnings(const FitResult& result, const FitCovariance& covariance,
+                                      const RigInspection& data, const FitBox& box,
+                                      const std::vector<double>& u) {
+  std::vector<std::string> warnings;
+  const std::size_t count = result.order.size();
+  const bool fits_static =
+      std::find(result.order.begin(), result.order.end(), FitParameter::ffs) != result.order.end();
+  if (fits_static && data.stuck_phases == 0) {
+    warnings.push_back(
+        "the recording has no stick phase: the break-away force F_fs is not seen, so ffk and ffs "
+        "cannot be told apart here");
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    const bool static_on_kinetic =
+        result.order[i] == FitParameter::ffs && u[i] <= box.lower[i] + 1e-9 &&
+        std::find(result.order.begin(), result.order.end(), FitParameter::ffk) !=
+            result.order.end();
+    if (static_on_kinetic && !(relative_ci(result, i) <= 0.2)) {
+      warnings.push_back(fmt::format(
+          "ffk and ffs cannot be told apart on this recording: the fit puts ffs on ffk ({:.4g} N, "
+          "the lowest it may be) with a 95 % interval of +-{:.3g} N; too few break-aways reach "
+          "the static force",
+          result.value[static_cast<std::size_t>(FitParameter::ffs)],
+          result.ci95[static_cast<std::size_t>(FitParameter::ffs)]));
+      continue;
+    }
+    if (covariance.no_influence[i]) {
+      warnings.push_back(
+          fmt::format("{} has no influence on the model on this recording: not identifiable",
+                      name_of(result, i)));
+    } else if (relative_ci(result, i) > 0.2) {
+      warnings.push_back(fmt::format("{} is poorly determined: 95 % interval +-{:.3g} %",
+                                     name_of(result, i), 100.0 * relative_ci(result, i)));
+    }
+    if (u[i] <= box.lower[i] + 1e-9 || u[i] >= box.upper[i] - 1e-9) {
+      warnings.push_back(
+          fmt::format("{} ended on its bound: the estimate is the bound, not a "
+                      "minimum",
+                      name_of(result, i)));
+    }
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    for (std::size_t j = i + 1; j < count; ++j) {
+      const double rho = covariance.correlation[i][j];
+      if (!(std::fabs(rho) > 0.9)) continue;
+      warnings.push_back(fmt::format(
+          "{} and {} are hard to tell apart on this recording: correlation {:+.3f} (a change in "
+          "one is largely made up by the other; 95 % intervals +-{:.3g} % and +-{:.3g} %)",
+          name_of(result, i), name_of(result, j), rho, 100.0 * relative_ci(result, i),
+          100.0 * relative_ci(result, j)));
+    }
+  }
+  return warnings;
+}
+
+}  // namespace stickslip::host

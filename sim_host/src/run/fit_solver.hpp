@@ -1,0 +1,44 @@
+// The local solver of `stickslip fit` (private to the run wing): Ceres Solver's
+// Levenberg-Marquardt on a FitProblem, and the Gauss-Newton covariance at its solution. The only
+// file that includes Ceres and Eigen, so that their heavy headers compile once.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "fit_problem.hpp"
+
+namespace stickslip::host {
+
+// Box bounds on the unknowns u, and the finite-difference step in u.
+struct FitBox {
+  std::vector<double> lower, upper;
+  double step = 1e-3;
+};
+
+struct LocalFit {
+  std::vector<double> u;
+  double cost = 0.0;  // sum of squared residuals
+  int iterations = 0;
+  bool converged = false;
+  std::string message;
+};
+
+// Starts at u0; a model run that configure() refuses is a step the trust region rejects.
+LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<double> u0,
+                     int max_iterations);
+
+struct FitCovariance {
+  // Of fit_values(), in `order`; a parameter with no influence on the residuals has
+  // ci95 = infinity and is left out of the correlations (NaN there).
+  std::vector<double> ci95;
+  std::vector<std::vector<double>> correlation;
+  double condition_number = 0.0;  // of J'J scaled to a unit diagonal (the unknowns' correlation)
+  std::vector<bool> no_influence;
+};
+
+// s^2 (J'J)^-1 with s^2 = SSR / (N - P), mapped to the parameters; 95 % = 1.96 standard errors.
+FitCovariance fit_covariance(const FitProblem& problem, const std::vector<double>& u,
+                             const FitBox& box);
+
+}  // namespace stickslip::host

@@ -1,0 +1,33 @@
+// What `stickslip fit` reads from a rig recording before any model runs (private to the run
+// wing): the sensor noise, the stuck phases, the transfer |a_x/a_u| over frequency, and from them
+// the plausibility of the units and the automatic start.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "stickslip/host/io/rig_recording.hpp"
+
+namespace stickslip::host {
+
+struct RigInspection {
+  double a_x_noise_m_per_s2 = 0.0;  // white-noise RMS, from second differences (median, robust)
+  double a_u_noise_m_per_s2 = 0.0;
+  double rms_u_m_per_s2 = 0.0, rms_x_m_per_s2 = 0.0;
+  std::vector<std::uint8_t> stuck;  // per sample: the relative acceleration is noise only
+  double stuck_share = 0.0;
+  std::size_t stuck_phases = 0;            // runs of >= kStuckPhaseSamples stuck samples
+  double static_force_bound_per_kg = 0.0;  // max over phases of (max a_u - min a_u) / 2
+  double peak_hz = 0.0;                    // largest |a_x/a_u| between 0.3 and 15 Hz
+  double peak_gain = 0.0;
+  double low_frequency_gain = 0.0;  // median |a_x/a_u| over 0.15..0.5 peak_hz; 0: no such bins
+};
+
+inline constexpr std::size_t kStuckPhaseSamples = 20;
+
+// Throws HostError "FILE: ..." when |a_x/a_u| below the natural frequency, where every seat
+// transmits the floor's motion (gain about 1), says one channel is in other units (g: 0.102 or
+// 9.8).
+RigInspection inspect_rig(const RigRecording& rig);
+
+}  // namespace stickslip::host

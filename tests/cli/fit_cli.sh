@@ -1,0 +1,82 @@
+#!/usr/bin/env bash
+# `stickslip fit` as a user runs it (the real executable) on rig files written by
+# stickslip_fit_validation (reference-solver a_x, 0.02 m/s^2 noise): the estimates and the JSON
+# line, the residual PNG, a fit that does not converge, and the bad rig files - each bad one one
+# line on stderr, exit status 1 (2 for a request that makes no sense), nothing on stdout.
+#   fit_cli.sh STICKSLIP STICKSLIP_FIT_VALIDATION
+set -euo pipefail
+stickslip=$1
+validation=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+fail() { echo "fit_cli: $*" >&2; exit 1; }
+
+# Expects exit status $1, an empty stdout and one stderr line containing $2.
+refuses() {
+  local status=$1 text=$2
+  shift 2
+  set +e
+  "$stickslip" fit "$@" >out.txt 2>err.txt
+  local got=$?
+  set -e
+  [ "$got" = "$status" ] || fail "fit $* exited $got, expected $status: $(cat err.txt)"
+  [ ! -s out.txt ] || fail "fit $* printed on stdout: $(head -3 out.txt)"
+  [ "$(wc -l <err.txt)" = 1 ] || fail "fit $* wrote $(wc -l <err.txt) lines on stderr: $(cat err.txt)"
+  grep -qF -- "$text" err.txt || fail "fit $*: expected '$text' in: $(cat err.txt)"
+}
+
+# K = 0.8 (F_fk = 47.1 N, F_fs = 56.6 N), 60 s.
+"$validation" --write-rig rig.csv --seed 11 --K 0.8 --duration 60
+"$stickslip" fit --input rig.csv --mass 88.4 --plot residual.png >out.txt
+/usr/bin/python3 - <<'PY' || fail "the JSON line: $(tail -1 out.txt)"
+import json, math
+j = json.loads(open("out.txt").read().splitlines()[-1])
+ffk = 0.8 * math.pi * math.sqrt(2) * 88.4 * 0.6 / 4
+truth = {"stiffness": (11500, 0.02), "damping": (504, 0.02), "ffk": (ffk, 0.03),
+         "ffs": (1.2 * ffk, 0.03)}
+for key, (value, tolerance) in truth.items():
+    assert abs(j[key] / value - 1) <= tolerance, (key, j[key], value)
+    assert 0 < j[key + "_ci95"] < tolerance * value, (key, j[key + "_ci95"])
+for key in ("rms_residual", "T_ax_measured", "T_ax_model", "p_model", "iterations", "seconds"):
+    assert key in j, key
+assert j["converged"] is True
+assert abs(j["T_ax_model"] / j["T_ax_measured"] - 1) < 0.01, (j["T_ax_model"], j["T_ax_measured"])
+assert j["rms_residual"] < 0.025, j["rms_residual"]
+assert "mass" not in j  # given, not fitted
+PY
+grep -q "^  stiffness .* +- .* N/m (95 %" out.txt || fail "no stiffness line: $(cat out.txt)"
+grep -q "^correlation of the estimates" out.txt || fail "no correlation matrix: $(cat out.txt)"
+[ "$(head -c 8 residual.png | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] ||
+  fail "residual.png is no PNG"
+ls | grep -q tmp && fail "a temporary file was left: $(ls)"
+
+# The same file as a logger writes it (units in the header) is read the same.
+"$validation" --write-rig units.csv --seed 11 --K 0.8 --duration 60 --unit-header
+"$stickslip" fit --input units.csv --mass 88.4 >units.txt
+[ "$(tail -1 units.txt | sed 's/"seconds":[^,]*,//')" = "$(tail -1 out.txt | sed 's/"seconds":[^,]*,//')" ] ||
+  fail "the file with units in its header fits differently"
+
+# Identifiability reported: at K = 0.05 the seat hardly ever sticks, so F_fs is not seen.
+"$validation" --write-rig nostick.csv --seed 2 --K 0.05 --duration 30
+"$stickslip" fit --input nostick.csv --mass 88.4 >nostick.txt
+grep -q "^warning: ffk and ffs cannot be told apart on this recording" nostick.txt ||
+  fail "no identifiability warning at K = 0.05: $(cat nostick.txt)"
+
+# Not converged: says so, status 1, no estimates.
+refuses 1 "the fit did not converge after 1 iterations" --input rig.csv --mass 88.4 --max-iterations 1
+
+# Bad rig files.
+"$validation" --write-rig no_ax.csv --seed 11 --K 0.8 --duration 20 --no-ax
+refuses 1 "no column 'a_x' (the seat acceleration" --input no_ax.csv --mass 88.4
+"$validation" --write-rig g_named.csv --seed 11 --K 0.8 --duration 20 --ax-in-g --unit-header
+refuses 1 "column 'a_x' is in g but the fit needs m/s^2; multiply it by 9.80665" --input g_named.csv --mass 88.4
+"$validation" --write-rig g_unnamed.csv --seed 11 --K 0.8 --duration 60 --ax-in-g
+refuses 1 "a_x looks like it is in g, not m/s^2" --input g_unnamed.csv --mass 88.4
+"$validation" --write-rig late.csv --seed 11 --K 0.8 --duration 60 --shift-samples 40
+refuses 1 "a_x is shifted by" --input late.csv --mass 88.4
+refuses 2 "--fit mass: a_u, a_x and x_r fix only k/m, b/m and F/m" --input rig.csv --fit mass,stiffness
+refuses 2 "--fit: the linear model has no parameter ffk" --input rig.csv --mass 88.4 --model linear --fit stiffness,ffk
+refuses 2 "--mass: the seat's mass (kg) is needed" --input rig.csv
+refuses 2 "--fit: unknown parameter 'friction'" --input rig.csv --mass 88.4 --fit stiffness,friction
+echo "fit_cli: all checks passed"

@@ -202,3 +202,61 @@ TEST(EndStopExactness, DampedContactMatchesTheExactSolution) {
     CHECK_TEXT(d.p <= 1e-9, c.what);
   }
 }
+
+// With nothing damped (b = 0, b_s = 0) rounding differences grow from contact to contact: the
+// yardstick is how far two exact solutions drift apart whose inputs differ by 1e-13 (relative),
+// measured here; the core stays within that spread of the exact solution.
+TEST(EndStopExactness, UndampedContactStaysWithinTheSpreadOfExactSolutions) {
+  const std::vector<double> a_u = wideband(2.0, 20.0, 17);
+  std::vector<double> up = a_u, down = a_u;
+  for (std::size_t n = 0; n < a_u.size(); ++n) {
+    up[n] *= 1.0 + 1e-13;
+    down[n] *= 1.0 - 1e-13;
+  }
+  for (const FrictionModel model : {FrictionModel::stick_slip, FrictionModel::linear}) {
+    const bool sticking = model == FrictionModel::stick_slip;
+    const OscillatorParams p = seat(model, 0.0, sticking ? 25.0 : 0.0, 30.0);
+    const EndStopParams s = stops(rms_free_stroke(p, a_u), 0.0);
+    const ReferenceTrace exact = solve_reference(p, s, a_u);
+    const ReferenceTrace high = solve_reference(p, s, up), low = solve_reference(p, s, down);
+    const auto spread_of = [&](const ReferenceTrace& other) {
+      return deviation(other.x_r_m, other.a_x_m_per_s2, other.stuck_time_s, exact.x_r_m,
+                       exact.a_x_m_per_s2, exact.stuck_time_s);
+    };
+    const Deviation a = spread_of(high), b = spread_of(low);
+    Deviation spread;
+    spread.x = std::max(a.x, b.x);
+    spread.a_x = std::max(a.a_x, b.a_x);
+    spread.t_ax = std::max(a.t_ax, b.t_ax);
+    spread.p = std::max(a.p, b.p);
+    const History got = sticking ? end_stop_history<CoulombStickSlip>(p, s, a_u)
+                                 : end_stop_history<NoFriction>(p, s, a_u);
+    const Deviation d = against_reference(got, exact);
+    print(sticking ? "undamped stick-slip, spread" : "undamped frictionless, spread", spread);
+    print(sticking ? "undamped stick-slip, core" : "undamped frictionless, core", d);
+    CHECK(exact.contacts > 10);
+    CHECK_EQUAL(exact.contacts, got.contacts);
+    CHECK(d.x <= spread.x);
+    CHECK(d.a_x <= spread.a_x);
+    CHECK(d.t_ax <= spread.t_ax);
+    CHECK(d.p <= spread.p);
+  }
+}
+
+// No dissipation anywhere (no friction, b = 0, b_s = 0) and no input: the energy (spring, stop
+// spring, kinetic) is conserved through a million steps with contacts, to 1e-9 of its start.
+TEST(EndStopExactness, EnergyIsConservedOverAMillionStepsWithContacts) {
+  const OscillatorParams p = seat(FrictionModel::linear, 0.0, 0.0, 0.0);
+  EndStopOscillator<double, NoFriction> model;
+  CHECK_TRUE(model.configure(p, stops(0.03, 0.0)).ok());
+  model.reset(0.05, 0.0, 0.0);  // 2 cm into the upper stop, at rest
+  const double e0 = model.energy_j();
+  double worst = 0.0;
+  for (int n = 0; n < 1000000; ++n) {
+    model.step(0.0);
+    worst = std::max(worst, std::fabs(model.energy_j() - e0));
+  }
+  test::note_margin("energy drift over 1e6 steps", worst / e0, 1e-9);
+  CHECK(model.contacts() > 1000);
+  CHECK(worst <= 1e-9 * e0);
+}

@@ -301,8 +301,8 @@ class EndStopOscillator {
   bool break_away(const Input& in, Position& pos, T& stuck_fraction) noexcept;
   Boundary move_to_mode_end(const Input& in, Position& pos, bool detect) noexcept;
   Boundary within_tick(const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept;
-  unsigned first_tick_leaving_mode(const Input& in, unsigned lo, unsigned hi, T& x,
-                                   T& v) const noexcept;
+  unsigned first_tick_leaving_mode(const Input& in, unsigned lo, unsigned hi, T& x, T& v, T& x_hi,
+                                   T& v_hi) const noexcept;
   void enter_mode_at(const Input& in, const Position& pos, Boundary boundary,
                      StopContacts<T>& out) noexcept;
   // The stroke boundary the current mode can leave through towards (x, v): the stop ahead in

@@ -101,13 +101,15 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
     T xn = x, vn = v;
     advance(xn, vn, contact_, direction_, end, next - end, in);
     if (detect && mode_ends(xn, vn)) {
-      const unsigned lo = first_tick_leaving_mode(in, end, next, x, v);
+      const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
       Position at{lo, T(0)};
       Boundary found = within_tick(in, at, x, v, true);
       if (found == Boundary::none) {
-        // The polynomial stays in the mode where the map leaves it: they differ by rounding,
-        // and the boundary is the tick's end.
-        advance(x, v, contact_, direction_, lo, 1, in);
+        // The polynomial stays in the mode where the maps leave it: they differ by rounding (in
+        // float one tick can move x_r by less than its ulp), and the boundary is the tick's end,
+        // of the kind the maps saw there.
+        x = xn;
+        v = vn;
         at = Position{lo + 1, T(0)};
         const bool stroke = contact_ == 0 ? region(x) != 0 : x * T(contact_) < travel_;
         found = stroke ? Boundary::stroke : Boundary::velocity;
@@ -191,18 +193,21 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
   return found;
 }
 
-// Bisects (lo, hi], where the state (x, v) at tick lo fits the mode and the one at hi does not,
-// down to one tick; returns its start, with (x, v) advanced to it.
+// Bisects (lo, hi], where the state (x, v) at tick lo fits the mode and the one at hi (x_hi,
+// v_hi) does not, down to one tick; returns its start, with (x, v) advanced to it and (x_hi,
+// v_hi) the state the maps put at its end.
 template <typename T, typename Law>
 unsigned EndStopOscillator<T, Law>::first_tick_leaving_mode(const Input& in, unsigned lo,
-                                                            unsigned hi, T& x,
-                                                            T& v) const noexcept {
+                                                            unsigned hi, T& x, T& v, T& x_hi,
+                                                            T& v_hi) const noexcept {
   while (hi - lo > 1) {
     const unsigned mid = lo + (hi - lo) / 2;
     T xm = x, vm = v;
     advance(xm, vm, contact_, direction_, lo, mid - lo, in);
     if (mode_ends(xm, vm)) {
       hi = mid;
+      x_hi = xm;
+      v_hi = vm;
     } else {
       lo = mid;
       x = xm;

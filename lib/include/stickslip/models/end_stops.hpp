@@ -5,17 +5,20 @@
 // Between events the motion is linear in each mode (free or in contact, stuck or slipping one
 // way), so it is advanced by that mode's precomputed exact affine maps (first-order-hold input),
 // for the whole step or for dyadic blocks of it (dt / 2^l, l = 0..16), all computed in
-// configure(). Events inside the step — contact, release, stick, reversal, break-away — are found
-// on the step's grid of 2^16 ticks: a scan in 16 blocks, then bisection down to one tick (the event
-// is placed at the end of its tick: 15 ns at dt = 1 ms; against a fine-step reference the
-// contact instants agree to that and the motion to 2e-6 of its amplitude with a damped stop,
-// whose force jumps by b_s v_r at contact); a break-away, where the limit force is
-// linear in time, is solved for directly. A contact or a double crossing of v_r = 0 shorter than a
-// sixteenth of the step may go unseen; it moves the state by no more than that short interval can.
+// configure(). One event engine serves every mode boundary — contact and release (|x_r| =
+// travel), stick and reversal (v_r = 0), break-away (|F_L| = F_fs): the maps scan the step's grid
+// of 2^16 ticks (16 blocks, then bisection down to one tick), and inside that tick the boundary is
+// solved for on the mode's Taylor polynomial (models/detail/end_stop_search.hpp); break-away,
+// where F_L is linear in time, directly. In double the trajectory then agrees with the exact
+// event-driven solution to rounding (tests/host/test_end_stop_exactness.cpp: a_x 1e-14..1e-12
+// RMS in contact, the plain oscillator to 2e-15 with the stops out of reach). A contact or a
+// double crossing of v_r = 0 shorter than a sixteenth of the step may go unseen; it moves the
+// state by no more than that short interval can.
 //
 // Common path (no event): one affine map and a few compares, like Oscillator's.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <type_traits>
 
@@ -25,6 +28,7 @@
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/integrators/discretisation.hpp"
 #include "stickslip/integrators/step_map.hpp"
+#include "stickslip/integrators/taylor_segment.hpp"
 // Oscillator: the scene's seat without stops, which users of the stops compare against.
 #include "stickslip/models/oscillator.hpp"
 #include "stickslip/models/step_common.hpp"
@@ -91,6 +95,17 @@ class EndStopOscillator {
     static_n_ = S::from_double(kSticking ? seat.static_friction_n : 0.0);
     dt_s_ = S::from_double(seat.dt_s);
     tick_fraction_ = S::from_double(1.0 / double(kTicks));  // a power of two
+    // Inside a tick the exact motion of each mode is its Taylor polynomial, to an order whose
+    // truncation is below the scalar's rounding.
+    const double tick_s = seat.dt_s / double(kTicks), m = seat.mass_kg;
+    tick_s_ = S::from_double(tick_s);
+    const double stiff[2] = {seat.stiffness_n_per_m,
+                             seat.stiffness_n_per_m + stops.stiffness_n_per_m};
+    const double damp[2] = {seat.damping_ns_per_m, seat.damping_ns_per_m + stops.damping_ns_per_m};
+    for (int mode = 0; mode < 2; ++mode) {
+      taylor_[mode].order = taylor_order(tick_s, stiff[mode] / m, damp[mode] / m);
+      fill_taylor_coefficients(taylor_[mode], tick_s, stiff[mode] / m, damp[mode] / m);
+    }
     reset(T(0), T(0), T(0));
     return result;
   }
@@ -123,7 +138,7 @@ class EndStopOscillator {
     const Input in{a_prev_, a_u_next};
     StopContacts<T>& out = contacts_last_;
     out = StopContacts<T>{};
-    T stuck_ticks = T(0);
+    T stuck_fraction = T(0);
     int events = 0;
 
     if (kSticking && direction_ == T(0)) {
@@ -150,11 +165,11 @@ class EndStopOscillator {
         return slip_output(a_x);
       }
     }
-    events = search(in, stuck_ticks, out);
+    events = search(in, stuck_fraction, out);
     guard_state();
     a_prev_ = a_u_next;
     out.contact = static_cast<std::int8_t>(contact_);
-    const StepOutput<T> result = output(in.a1, stuck_ticks * tick_fraction_, events);
+    const StepOutput<T> result = output(in.a1, stuck_fraction, events);
     acceleration_ = result.stuck ? T(0) : result.a_x_m_per_s2 - in.a1;
     return result;
   }
@@ -186,10 +201,22 @@ class EndStopOscillator {
     const double travel = S::to_double(travel_);
     return x > travel ? x - travel : (x < -travel ? x + travel : 0.0);
   }
-  // Spring force of the stop at x (its damping vanishes with v_r = 0).
+  // Spring force of the stop in the current mode at x (its damping vanishes with v_r = 0).
   T stop_spring_force(T x) const noexcept {
-    const int c = region(x);
-    return c == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(c));
+    return contact_ == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(contact_));
+  }
+  // Lowest Taylor order (>= 2) whose remainder over one tick, (rate H)^(K+1)/(K+1)!, is below a
+  // sixteenth of the scalar's epsilon; rate = omega0 + b/m bounds the growth of every derivative.
+  static int taylor_order(double tick_s, double stiffness_over_mass,
+                          double damping_over_mass) noexcept {
+    const double rate = (std::sqrt(stiffness_over_mass) + damping_over_mass) * tick_s;
+    const double target = S::to_double(S::epsilon()) / 16.0;
+    double term = rate;
+    for (int order = 1; order < kMaxTaylorOrder; ++order) {
+      term *= rate / double(order + 1);
+      if (order >= 2 && term <= target) return order;
+    }
+    return kMaxTaylorOrder;
   }
   // F_L = m a_u + k x_r + F_stop(x_r): the force friction must hold for the seat to stay put.
   T limit_force(T x, T a_u) const noexcept {
@@ -217,7 +244,7 @@ class EndStopOscillator {
   // The seat's absolute acceleration at (x, v) while slipping in the current direction (or free):
   // -(k x + b v + F_stop + F_f) / m.
   T seat_acceleration(T x, T v) const noexcept {
-    const int c = region(x);
+    const int c = contact_;
     const T stop = c == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(c)) + stop_damping_ * v;
     return -(inv_mass_ * (stiffness_ * x + damping_ * v + stop + kinetic_n_ * direction_));
   }
@@ -239,7 +266,7 @@ class EndStopOscillator {
   // possible double crossing, for which the search scans the step), and for the frictionless seat
   // a turn of v_r (its x_r may have touched a stop in between).
   bool event_between(T x0, T v0, T acc0, T x1, T v1, T acc1) const noexcept {
-    if (region(x1) != contact_) return true;
+    if (mode_ends(x1, v1)) return true;
     const T d = direction_;
     if constexpr (kSticking) {
       if (v1 * d <= T(0)) return true;
@@ -256,130 +283,35 @@ class EndStopOscillator {
 
   // True when, at state (x, v), the current mode no longer holds.
   bool mode_ends(T x, T v) const noexcept {
-    if (region(x) != contact_) return true;
+    if (contact_ == 0 ? region(x) != 0 : x * T(contact_) < travel_) return true;
     if constexpr (kSticking) return v * direction_ <= T(0);
     return false;
   }
 
-  // The event-driven remainder of a step. Returns the number of events.
-  int search(const Input& in, T& stuck_ticks, StopContacts<T>& out) noexcept {
-    unsigned t = 0;  // ticks done
-    int events = 0;
-    while (t < kTicks) {
-      if (events >= kBudget) {
-        ++counters_.event_budget_exhausted;
-        // Finish in the current mode without further events.
-        if (direction_ != T(0))
-          advance(x_, v_, contact_, direction_, t, kTicks - t, in);
-        else
-          stuck_ticks += T(kTicks - t);
-        return events;
-      }
-      if (kSticking && direction_ == T(0)) {
-        if (!break_away(in, t, stuck_ticks)) return events;
-        ++events;
-        continue;
-      }
-      if (!move_to_mode_end(in, t)) return events;
-      ++events;
-      enter_mode_at(in, t, out);
-    }
-    return events;
-  }
+  // A place inside the step: whole ticks plus a fraction of the next one (so that the step's end
+  // is reached exactly), and the step fraction phi it stands for.
+  struct Position {
+    unsigned tick;
+    T frac;
+  };
+  T phi(const Position& pos) const noexcept { return (T(pos.tick) + pos.frac) * tick_fraction_; }
+  // What ended a mode inside a tick.
+  enum class Boundary : std::uint8_t { none, velocity, stroke };
 
-  // Stuck from tick t: finds where |F_L| first exceeds F_fs (F_L is linear in time) and breaks
-  // away there, against F_L (true); false, with the rest of the step stuck, when it holds.
-  bool break_away(const Input& in, unsigned& t, T& stuck_ticks) noexcept {
-    const T f0 = limit_force(x_, in.at(T(t) * tick_fraction_));
-    const T f1 = limit_force(x_, in.a1);
-    if (S::abs(f1) <= static_n_) {
-      stuck_ticks += T(kTicks - t);
-      v_ = T(0);
-      return false;
-    }
-    const T bound = f1 > T(0) ? static_n_ : -static_n_;
-    const T share = (bound - f0) / (f1 - f0);  // in [0, 1]: f0 holds, f1 does not
-    unsigned ticks = static_cast<unsigned>(S::to_double(share) * double(kTicks - t)) + 1u;
-    if (ticks > kTicks - t) ticks = kTicks - t;
-    stuck_ticks += T(ticks);
-    t += ticks;
-    direction_ = f1 > T(0) ? T(-1) : T(1);
-    v_ = T(0);
-    return true;
-  }
-
-  // Moving from tick t: scans blocks of kScanBlock for the first one whose end no longer fits the
-  // mode, then bisects it down to the first tick that leaves the mode. Advances the state and t to
-  // the end of that tick (true), or to the end of the step when the mode holds throughout (false).
-  bool move_to_mode_end(const Input& in, unsigned& t) noexcept {
-    T x = x_, v = v_;
-    unsigned end = t;
-    bool found = false;
-    while (end < kTicks) {
-      const unsigned next = (end / kScanBlock + 1) * kScanBlock;
-      T xn = x, vn = v;
-      advance(xn, vn, contact_, direction_, end, next - end, in);
-      if (mode_ends(xn, vn)) {
-        end = first_tick_leaving_mode(in, end, next, x, v);
-        found = true;
-        break;
-      }
-      x = xn;
-      v = vn;
-      end = next;
-    }
-    x_ = x;
-    v_ = v;
-    t = end;
-    return found;
-  }
-
-  // Bisects (lo, hi], where the state (x, v) at lo fits the mode and the one at hi does not, for
-  // the first tick whose state leaves the mode; returns it, with (x, v) advanced to it.
-  unsigned first_tick_leaving_mode(const Input& in, unsigned lo, unsigned hi, T& x,
-                                   T& v) const noexcept {
-    T x_lo = x, v_lo = v;
-    while (hi - lo > 1) {
-      const unsigned mid = lo + (hi - lo) / 2;
-      T xm = x_lo, vm = v_lo;
-      advance(xm, vm, contact_, direction_, lo, mid - lo, in);
-      if (mode_ends(xm, vm)) {
-        hi = mid;
-      } else {
-        lo = mid;
-        x_lo = xm;
-        v_lo = vm;
-      }
-    }
-    advance(x_lo, v_lo, contact_, direction_, lo, hi - lo, in);
-    x = x_lo;
-    v = v_lo;
-    return hi;
-  }
-
-  // At tick t the mode ended: a contact begins or ends, and v_r reaching 0 sticks the seat if
-  // friction can hold it, else reverses it.
-  void enter_mode_at(const Input& in, unsigned t, StopContacts<T>& out) noexcept {
-    const int now = region(x_);
-    if (now != contact_) {
-      if (now != 0 && contact_ == 0) {
-        ++contacts_;
-        if (out.contact_events == 0) out.first_contact_s = T(t) * tick_fraction_ * dt_s_;
-        ++out.contact_events;
-      }
-      contact_ = now;
-    }
-    if constexpr (kSticking) {
-      if (v_ * direction_ <= T(0)) {
-        const T f = limit_force(x_, in.at(T(t) * tick_fraction_));
-        v_ = T(0);
-        if (S::abs(f) <= static_n_) {
-          direction_ = T(0);
-        } else {
-          direction_ = f > T(0) ? T(-1) : T(1);
-        }
-      }
-    }
+  // The in-step event search (models/detail/end_stop_search.hpp).
+  int search(const Input& in, T& stuck_fraction, StopContacts<T>& out) noexcept;
+  bool break_away(const Input& in, Position& pos, T& stuck_fraction) noexcept;
+  Boundary move_to_mode_end(const Input& in, Position& pos, bool detect) noexcept;
+  Boundary within_tick(const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept;
+  unsigned first_tick_leaving_mode(const Input& in, unsigned lo, unsigned hi, T& x, T& v, T& x_hi,
+                                   T& v_hi) const noexcept;
+  void enter_mode_at(const Input& in, const Position& pos, Boundary boundary,
+                     StopContacts<T>& out) noexcept;
+  // The stroke boundary the current mode can leave through towards (x, v): the stop ahead in
+  // the free stroke, the stop's edge in contact.
+  T boundary_ahead(T x) const noexcept {
+    if (contact_ != 0) return travel_ * T(contact_);
+    return x > T(0) ? travel_ : -travel_;
   }
 
   // A running model never emits NaN/Inf: a non-finite state (never for an accepted scene)
@@ -396,7 +328,7 @@ class EndStopOscillator {
     StepOutput<T> o{};
     o.x_r_m = x_;
     o.v_r_m_per_s = v_;
-    const int c = region(x_);
+    const int c = contact_;
     const T stop = c == 0 ? T(0) : stop_stiffness_ * (x_ - travel_ * T(c)) + stop_damping_ * v_;
     if (kSticking && direction_ == T(0)) {
       o.friction_n = -limit_force(x_, a_u);  // holding force
@@ -413,11 +345,12 @@ class EndStopOscillator {
     return o;
   }
 
-  StepMap<T> maps_[2][kMapLevels]{};  // [free, contact][level]
+  StepMap<T> maps_[2][kMapLevels]{};   // [free, contact][level]
+  TaylorCoefficients<T> taylor_[2]{};  // [free, contact], one tick
   T mass_kg_{}, inv_mass_{}, stiffness_{}, damping_{};
   T stop_stiffness_{}, stop_damping_{}, travel_{};
   T kinetic_n_{}, static_n_{};
-  T dt_s_{}, tick_fraction_{};
+  T dt_s_{}, tick_fraction_{}, tick_s_{};
   T x_{}, v_{}, a_prev_{}, direction_{};
   T acceleration_{};  // v_r' at the current state (0 while stuck)
   int contact_ = 0;
@@ -427,3 +360,5 @@ class EndStopOscillator {
 };
 
 }  // namespace stickslip
+
+#include "stickslip/models/detail/end_stop_search.hpp"

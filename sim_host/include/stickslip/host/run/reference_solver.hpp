@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "stickslip/core/params.hpp"
+#include "stickslip/models/end_stops.hpp"
 
 namespace stickslip::host {
 
@@ -39,8 +40,9 @@ struct ReferenceTrace {
   // Stuck at the sample (sticking laws and signum: at rest in the Filippov sense; friction_n is
   // then the holding force F_L and a_x = a_u exactly).
   std::vector<std::uint8_t> stuck;
-  double stuck_time_s = 0;   // total time stuck, exact (from the located instants)
-  std::uint64_t events = 0;  // stick, break-away and reversal events
+  double stuck_time_s = 0;     // total time stuck, exact (from the located instants)
+  std::uint64_t events = 0;    // stick, break-away and reversal events
+  std::uint64_t contacts = 0;  // with end stops: contacts begun
 };
 
 // Event-driven reference for params.model on the FOH input a_u sampled at params.dt_s, from x0, v0
@@ -50,5 +52,15 @@ struct ReferenceTrace {
 // a non-finite initial state.
 ReferenceTrace solve_reference(const OscillatorParams& params, const std::vector<double>& a_u,
                                double x0_m = 0.0, double v0_m_per_s = 0.0);
+
+// The same with end stops (models/end_stops.hpp): free within +-travel, the Kelvin-Voigt stop
+// beyond it. Three regions, each a linear oscillator in closed form; contact and release
+// (|x_r| = travel), v_r = 0 and break-away are located on the closed form of the current region
+// by a bracketing root finder (reference_end_stops.cpp). Laws: linear (a frictionless seat),
+// signum and stick-slip. Throws ConfigurationError for the others and for parameters
+// EndStopOscillator::configure refuses, HostError as above.
+ReferenceTrace solve_reference(const OscillatorParams& params, const EndStopParams& stops,
+                               const std::vector<double>& a_u, double x0_m = 0.0,
+                               double v0_m_per_s = 0.0);
 
 }  // namespace stickslip::host

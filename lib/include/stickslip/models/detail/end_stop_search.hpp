@@ -1,0 +1,245 @@
+// The in-step event search of EndStopOscillator (models/end_stops.hpp): the definitions of the
+// members end_stops.hpp declares for it.
+//
+// One engine for every mode boundary: v_r = 0 while slipping (stick or reversal), |x_r| = travel
+// (contact from the free stroke, release from a stop) and, while stuck, |F_L| = F_fs
+// (break-away). The mode's exact affine maps scan the step on its grid of 2^16 ticks (16 blocks,
+// then bisection down to the tick whose end leaves the mode); inside that tick the mode's exact
+// motion is its Taylor polynomial (order chosen in configure() so that the truncation is below
+// the scalar's rounding), on which the boundary is solved for: v_r = 0 by TaylorSegment's
+// first_crossing (a dip to 0 and back included), x_r = +-travel by Newton kept inside its
+// bracket (slope H v_r). Break-away is solved for directly (F_L is linear in time). A position
+// inside the step is whole ticks plus a fraction of the next, so the step's end is reached
+// exactly.
+//
+// Loop bounds (the step's work): at most kMaxEventsPerStep events; per event one scan of at most
+// 16 blocks, one bisection of 12 levels, one Taylor tick (the Newton loops are capped at
+// kNewtonIterations and first_crossing at its own cap).
+#pragma once
+
+#include "stickslip/models/end_stops.hpp"
+
+namespace stickslip {
+
+namespace end_stop_detail {
+// Newton on the stroke boundary inside a tick: quadratic convergence from the secant; 48
+// safeguarded iterations are far more than a double ever needs (bisection alone halves the
+// bracket to below 2^-48 of a tick).
+inline constexpr int kNewtonIterations = 48;
+}  // namespace end_stop_detail
+
+template <typename T, typename Law>
+int EndStopOscillator<T, Law>::search(const Input& in, T& stuck_fraction,
+                                      StopContacts<T>& out) noexcept {
+  Position pos{0u, T(0)};
+  int events = 0;
+  while (pos.tick < kTicks) {
+    const bool detect = events < kBudget;
+    if (!detect) ++counters_.event_budget_exhausted;  // the rest of the step without events
+    if (kSticking && direction_ == T(0)) {
+      if (!detect) {
+        stuck_fraction += T(1) - phi(pos);
+        return events;
+      }
+      if (!break_away(in, pos, stuck_fraction)) return events;
+      ++events;
+      continue;
+    }
+    const Boundary boundary = move_to_mode_end(in, pos, detect);
+    if (boundary == Boundary::none) return events;
+    ++events;
+    enter_mode_at(in, pos, boundary, out);
+  }
+  return events;
+}
+
+// Stuck at pos: F_L is linear in time; false (stuck to the end of the step) when it holds,
+// otherwise true with pos at the instant |F_L| reaches F_fs and the seat leaving against F_L.
+template <typename T, typename Law>
+bool EndStopOscillator<T, Law>::break_away(const Input& in, Position& pos,
+                                           T& stuck_fraction) noexcept {
+  const T phi_now = phi(pos);
+  const T f1 = limit_force(x_, in.a1);
+  v_ = T(0);
+  if (S::abs(f1) <= static_n_) {
+    stuck_fraction += T(1) - phi_now;
+    return false;
+  }
+  const T f0 = limit_force(x_, in.at(phi_now));
+  const T bound = f1 > T(0) ? static_n_ : -static_n_;
+  T ratio = T(0);  // |f0| < F_fs < |f1|: the denominator is not zero
+  if (S::abs(f0) < static_n_) {
+    ratio = S::proportion(bound - f0, f1 - f0);
+    ratio = ratio < T(0) ? T(0) : (ratio > T(1) ? T(1) : ratio);
+  }
+  const T phi_break = phi_now + ratio * (T(1) - phi_now);
+  stuck_fraction += phi_break - phi_now;
+  const T ticks = phi_break * T(kTicks);
+  unsigned whole = static_cast<unsigned>(ticks);
+  if (whole >= kTicks) whole = kTicks;
+  pos.tick = whole;
+  pos.frac = whole >= kTicks ? T(0) : ticks - T(whole);
+  direction_ = f1 > T(0) ? T(-1) : T(1);
+  return true;
+}
+
+// Moving from pos in the current mode: to the first boundary (returned, with the state and pos
+// there) or to the end of the step (Boundary::none). Without `detect`, straight to the end.
+template <typename T, typename Law>
+typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_mode_end(
+    const Input& in, Position& pos, bool detect) noexcept {
+  T x = x_, v = v_;
+  if (pos.frac > T(0)) {
+    const Boundary inside = within_tick(in, pos, x, v, detect);
+    x_ = x;
+    v_ = v;
+    if (inside != Boundary::none || pos.tick >= kTicks) return inside;
+  }
+  unsigned end = pos.tick;
+  while (end < kTicks) {
+    const unsigned next = (end / kScanBlock + 1) * kScanBlock;
+    T xn = x, vn = v;
+    advance(xn, vn, contact_, direction_, end, next - end, in);
+    if (detect && mode_ends(xn, vn)) {
+      const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
+      Position at{lo, T(0)};
+      Boundary found = within_tick(in, at, x, v, true);
+      if (found == Boundary::none) {
+        // The polynomial stays in the mode where the maps leave it: they differ by rounding (in
+        // float one tick can move x_r by less than its ulp), and the boundary is the tick's end,
+        // of the kind the maps saw there.
+        x = xn;
+        v = vn;
+        at = Position{lo + 1, T(0)};
+        const bool stroke = contact_ == 0 ? region(x) != 0 : x * T(contact_) < travel_;
+        found = stroke ? Boundary::stroke : Boundary::velocity;
+      }
+      x_ = x;
+      v_ = v;
+      pos = at;
+      return found;
+    }
+    x = xn;
+    v = vn;
+    end = next;
+  }
+  x_ = x;
+  v_ = v;
+  pos = Position{kTicks, T(0)};
+  return Boundary::none;
+}
+
+// From pos to the end of its tick on the mode's Taylor polynomial, or (with `detect`) to the
+// first boundary inside it: returns which, with (x, v) and pos there.
+template <typename T, typename Law>
+typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_tick(
+    const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
+  const T offset = inv_mass_ * (kinetic_n_ * direction_ - stop_stiffness_ * travel_ * T(contact_));
+  const T span = T(1) - pos.frac;
+  const T starting = kSticking && v == T(0) ? direction_ : T(0);
+  const TaylorSegment<T> segment(taylor_[contact_ != 0 ? 1 : 0], x, v, -(in.at(phi(pos)) + offset),
+                                 -(in.a1 - in.a0) * tick_fraction_, starting);
+  T end = span;
+  Boundary found = Boundary::none;
+  if (detect) {
+    if constexpr (kSticking) {
+      T root = T(0);
+      if (segment.first_crossing(direction_, T(0), span, v * direction_, root)) {
+        end = root;
+        found = Boundary::velocity;
+      }
+    }
+    // The stroke boundary before `end`: f(u) = s (x(u) - edge) is <= 0 in the mode, > 0 out.
+    const T x_end = segment.position(end);
+    const bool leaves = contact_ == 0 ? region(x_end) != 0 : x_end * T(contact_) < travel_;
+    if (leaves) {
+      const T edge = boundary_ahead(x_end);
+      const T s = contact_ != 0 ? T(-contact_) : (edge > T(0) ? T(1) : T(-1));
+      T lo = T(0), hi = end;
+      const T f_lo = s * (x - edge), f_hi = s * (x_end - edge);
+      T u = f_lo < T(0) ? lo + (hi - lo) * S::proportion(-f_lo, f_hi - f_lo) : lo;
+      const T tolerance = T(4) * S::epsilon();
+      for (int i = 0; i < end_stop_detail::kNewtonIterations && f_lo < T(0); ++i) {
+        const T f = s * (segment.position(u) - edge);
+        if (f > T(0)) {
+          hi = u;
+        } else {
+          lo = u;
+        }
+        const T slope = s * segment.velocity(u) * tick_s_;
+        // Newton's step where it lands inside the bracket (x_r s rises: slope > 0), else bisection.
+        T next = slope > T(0) ? u - f / slope : lo;
+        if (!(next > lo && next < hi)) next = lo + (hi - lo) * T(0.5);
+        const T change = next > u ? next - u : u - next;
+        u = next;
+        if (change <= tolerance || hi - lo <= tolerance) break;
+      }
+      end = u;
+      found = Boundary::stroke;
+    }
+  }
+  x = segment.position(end);
+  v = found == Boundary::velocity ? T(0) : segment.velocity(end);
+  if (found == Boundary::none) {
+    ++pos.tick;
+    pos.frac = T(0);
+  } else {
+    pos.frac = pos.frac + end;
+    if (!(pos.frac < T(1))) {
+      ++pos.tick;
+      pos.frac = T(0);
+    }
+  }
+  return found;
+}
+
+// Bisects (lo, hi], where the state (x, v) at tick lo fits the mode and the one at hi (x_hi,
+// v_hi) does not, down to one tick; returns its start, with (x, v) advanced to it and (x_hi,
+// v_hi) the state the maps put at its end.
+template <typename T, typename Law>
+unsigned EndStopOscillator<T, Law>::first_tick_leaving_mode(const Input& in, unsigned lo,
+                                                            unsigned hi, T& x, T& v, T& x_hi,
+                                                            T& v_hi) const noexcept {
+  while (hi - lo > 1) {
+    const unsigned mid = lo + (hi - lo) / 2;
+    T xm = x, vm = v;
+    advance(xm, vm, contact_, direction_, lo, mid - lo, in);
+    if (mode_ends(xm, vm)) {
+      hi = mid;
+      x_hi = xm;
+      v_hi = vm;
+    } else {
+      lo = mid;
+      x = xm;
+      v = vm;
+    }
+  }
+  return lo;
+}
+
+// At pos a mode ended: at a stroke boundary the seat enters or leaves a stop (x_r on the edge,
+// v_r carried on); at v_r = 0 it sticks if friction can hold it, else reverses.
+template <typename T, typename Law>
+void EndStopOscillator<T, Law>::enter_mode_at(const Input& in, const Position& pos,
+                                              Boundary boundary, StopContacts<T>& out) noexcept {
+  if (boundary == Boundary::stroke) {
+    const T edge = boundary_ahead(x_);
+    x_ = edge;
+    if (contact_ == 0) {
+      contact_ = edge > T(0) ? 1 : -1;
+      ++contacts_;
+      if (out.contact_events == 0) out.first_contact_s = phi(pos) * dt_s_;
+      ++out.contact_events;
+    } else {
+      contact_ = 0;
+    }
+    return;
+  }
+  if constexpr (kSticking) {
+    const T f = limit_force(x_, in.at(phi(pos)));
+    v_ = T(0);
+    direction_ = S::abs(f) <= static_n_ ? T(0) : (f > T(0) ? T(-1) : T(1));
+  }
+}
+
+}  // namespace stickslip

@@ -1,0 +1,272 @@
+// The event-driven reference of the seat with end stops (reference_solver.hpp): three regions
+// (free, upper stop, lower stop), each a linear oscillator with its own stiffness, damping and
+// constant force, so that every slip or free phase is known in closed form (reference_closed_form
+// .hpp) and every mode boundary is located on it by a bracketing root finder:
+//   - v_r = 0 (stick or reversal; for the frictionless seat a turn): find_crossing, which also
+//     catches a dip of v_r to 0 and back inside a piece;
+//   - |x_r| = travel (contact, release): while slipping in direction d, v_r d > 0 until the next
+//     v_r = 0 instant, so x_r is monotone there and a sign change of d (x_r - boundary) between the
+//     phase start and that instant brackets the one crossing (safeguarded Newton, slope v_r);
+//   - |F_L| = F_fs (break-away): F_L is linear in time while stuck, solved for directly.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "reference_closed_form.hpp"
+#include "stickslip/host/error.hpp"
+#include "stickslip/host/run/reference_solver.hpp"
+#include "stickslip/models/end_stops.hpp"
+
+namespace stickslip::host {
+namespace reference {
+namespace {
+
+class StopSolver {
+ public:
+  StopSolver(const OscillatorParams& p, const EndStopParams& stops, const std::vector<double>& a_u)
+      : p_(p),
+        a_u_(a_u),
+        mass_(wide(p.mass_kg)),
+        stiffness_(wide(p.stiffness_n_per_m)),
+        damping_(wide(p.damping_ns_per_m)),
+        stop_stiffness_(wide(stops.stiffness_n_per_m)),
+        stop_damping_(wide(stops.damping_ns_per_m)),
+        travel_(wide(stops.travel_m)),
+        dt_(wide(p.dt_s)),
+        free_(mass_, stiffness_, damping_),
+        contact_(mass_, stiffness_ + stop_stiffness_, damping_ + stop_damping_) {
+    friction_ = p.model != FrictionModel::linear;
+    kinetic_ = friction_ ? wide(p.kinetic_friction_n) : 0.0L;
+    static_ = p.model == FrictionModel::signum ? kinetic_
+                                               : (friction_ ? wide(p.static_friction_n) : 0.0L);
+    tolerance_ = 4e-19L * dt_;
+  }
+
+  ReferenceTrace run(double x0, double v0) {
+    const std::size_t count = a_u_.size();
+    ReferenceTrace trace;
+    trace.x_r_m.resize(count);
+    trace.v_r_m_per_s.resize(count);
+    trace.a_x_m_per_s2.resize(count);
+    trace.friction_n.resize(count);
+    trace.stuck.resize(count);
+    x_ = wide(x0);
+    v_ = wide(v0);
+    region_ = x_ > travel_ ? 1 : (x_ < -travel_ ? -1 : 0);
+    const Real limit = limit_force(wide(a_u_[0]));
+    if (v_ != 0) {
+      direction_ = sign_of(v_);
+    } else if (friction_ && std::fabs(limit) <= static_) {
+      direction_ = 0;
+    } else {
+      direction_ = limit < 0 ? -1.0L : 1.0L;
+    }
+    record(trace, 0);
+    for (std::size_t n = 1; n < count; ++n) {
+      sample_ = n;
+      advance(wide(a_u_[n - 1]), wide(a_u_[n]));
+      record(trace, n);
+    }
+    trace.stuck_time_s = narrow(static_cast<Real>(whole_samples_stuck_) * dt_ + partial_stuck_s_);
+    trace.events = events_;
+    trace.contacts = contacts_;
+    return trace;
+  }
+
+ private:
+  // The stop's spring force at x in region c (its damping b_s v_r vanishes at rest).
+  Real stop_spring(Real x, int c) const {
+    return c == 0 ? 0.0L : stop_stiffness_ * (x - c * travel_);
+  }
+  // F_L = -(m a_u + k x_r + F_stop): the force friction must supply to hold the seat.
+  Real limit_force(Real a_u) const {
+    return -(mass_ * a_u + stiffness_ * x_ + stop_spring(x_, region_));
+  }
+  Real input_at(Real a0, Real a1, Real tau) const {
+    if (a0 == a1) return a0;
+    const Real phi = tau / dt_;
+    return (1 - phi) * a0 + phi * a1;
+  }
+
+  void record(ReferenceTrace& trace, std::size_t n) const {
+    trace.x_r_m[n] = narrow(x_);
+    trace.v_r_m_per_s[n] = narrow(v_);
+    if (direction_ == 0) {
+      trace.friction_n[n] = narrow(limit_force(wide(a_u_[n])));
+      trace.a_x_m_per_s2[n] = a_u_[n];
+      trace.stuck[n] = 1;
+      return;
+    }
+    const Real force = kinetic_ * direction_;
+    const Real stop = region_ == 0 ? 0.0L : stop_spring(x_, region_) + stop_damping_ * v_;
+    trace.friction_n[n] = narrow(force);
+    trace.a_x_m_per_s2[n] = narrow(-(stiffness_ * x_ + damping_ * v_ + stop + force) / mass_);
+    trace.stuck[n] = 0;
+  }
+
+  void count_event(int& in_sample) {
+    if (++in_sample > kMaxEventsPerSample) {
+      throw HostError(fmt::format(
+          "reference solver: more than {} events in the sample interval ending at sample {} "
+          "(t = {} s): a degenerate scene",
+          kMaxEventsPerSample, sample_, static_cast<double>(sample_) * p_.dt_s));
+    }
+  }
+
+  void advance(Real a0, Real a1) {
+    Real tau = 0;
+    int in_sample = 0;
+    while (tau < dt_) {
+      tau = direction_ == 0 ? stuck_until(a0, a1, tau, in_sample)
+                            : move_until(a0, a1, tau, in_sample);
+    }
+  }
+
+  // Stuck from tau (x_r fixed, F_L linear in time): to the end, or to the break-away instant.
+  Real stuck_until(Real a0, Real a1, Real tau, int& in_sample) {
+    const Real limit_end = limit_force(a1);
+    if (std::fabs(limit_end) <= static_) {
+      if (tau == 0) {
+        ++whole_samples_stuck_;
+      } else {
+        partial_stuck_s_ += dt_ - tau;
+      }
+      return dt_;
+    }
+    const Real d = sign_of(limit_end);
+    Real tau_break = tau;
+    if (a1 != a0) {
+      const Real a_break = -(d * static_ + stiffness_ * x_ + stop_spring(x_, region_)) / mass_;
+      tau_break = dt_ * ((a_break - a0) / (a1 - a0));
+      if (!(tau_break > tau)) tau_break = tau;
+      if (tau_break > dt_) tau_break = dt_;
+    }
+    partial_stuck_s_ += tau_break - tau;
+    direction_ = d;
+    v_ = 0;
+    ++events_;
+    count_event(in_sample);
+    return tau_break;
+  }
+
+  // Moving from tau in direction d in the current region: to the end of the sample, or to the
+  // first boundary (v_r = 0 or |x_r| = travel), whichever comes first. Returns the instant.
+  Real move_until(Real a0, Real a1, Real tau, int& in_sample) {
+    const Real d = direction_;
+    const FreeModes& modes = region_ == 0 ? free_ : contact_;
+    const Real offset = (kinetic_ * d - stop_stiffness_ * travel_ * region_) / mass_;
+    const RampMotion motion(modes, x_, v_, input_at(a0, a1, tau), (a1 - a0) / dt_, offset);
+    // The stop boundary ahead: entering one from the free stroke, leaving one moving back.
+    bool bounded = false;
+    Real boundary = 0;
+    if (region_ == 0) {
+      bounded = true;
+      boundary = d * travel_;
+    } else if (d == -region_) {
+      bounded = true;
+      boundary = region_ * travel_;
+    }
+    const Real length = dt_ - tau, piece = modes.max_piece_s();
+    Real ta = 0;
+    Kinematics ka = motion.start();
+    while (ta < length) {
+      Real tb = length;
+      if (piece > 0 && tb - ta > piece) tb = ta + piece;
+      const Kinematics kb = motion(tb);
+      const Crossing turn = find_crossing(motion, d, ta, ka, tb, kb, tolerance_);
+      const Real te = turn.found ? turn.tau : tb;
+      if (bounded && d * (motion(te).x - boundary) >= 0) {
+        // x_r d rises monotonically on [ta, te]: one crossing of the boundary.
+        const auto ahead = [&](Real t) {
+          const Kinematics k = motion(t);
+          return std::array<Real, 2>{d * (boundary - k.x), -d * k.v};
+        };
+        const Real t_cross =
+            d * (ka.x - boundary) >= 0 ? ta : solve_descending(ahead, ta, te, tolerance_);
+        v_ = motion(t_cross).v;
+        x_ = boundary;
+        if (d * v_ < 0) v_ = 0;  // rounding at a turn that touches the boundary
+        if (region_ == 0) {
+          region_ = d > 0 ? 1 : -1;
+          ++contacts_;
+        } else {
+          region_ = 0;
+        }
+        count_event(in_sample);
+        return tau + t_cross < dt_ ? tau + t_cross : dt_;
+      }
+      if (turn.found) {
+        x_ = motion(turn.tau).x;
+        v_ = 0;
+        count_event(in_sample);
+        decide_at_rest(input_at(a0, a1, tau + turn.tau), d, turn.degenerate);
+        return tau + turn.tau < dt_ ? tau + turn.tau : dt_;
+      }
+      ta = tb;
+      ka = kb;
+      if (d * ka.v < 0) ka.v = 0;
+    }
+    x_ = ka.x;
+    v_ = ka.v;
+    return dt_;
+  }
+
+  // At a v_r = 0 instant after moving in direction d: stick if friction holds the load, else
+  // move off against it. The frictionless seat turns (a turn is no friction event).
+  void decide_at_rest(Real a_u, Real d, bool degenerate) {
+    const Real limit = limit_force(a_u);
+    if (!friction_) {
+      direction_ = limit != 0 && !degenerate ? sign_of(limit) : -d;
+      return;
+    }
+    ++events_;
+    direction_ = degenerate || std::fabs(limit) <= static_ ? Real(0) : sign_of(limit);
+  }
+
+  const OscillatorParams& p_;
+  const std::vector<double>& a_u_;
+  Real mass_, stiffness_, damping_, stop_stiffness_, stop_damping_, travel_, dt_;
+  FreeModes free_, contact_;
+  bool friction_ = false;
+  Real kinetic_ = 0, static_ = 0, tolerance_ = 0;
+  Real x_ = 0, v_ = 0, direction_ = 0;
+  int region_ = 0;
+  std::size_t sample_ = 0;
+  std::uint64_t events_ = 0, contacts_ = 0, whole_samples_stuck_ = 0;
+  Real partial_stuck_s_ = 0;
+};
+
+}  // namespace
+}  // namespace reference
+
+ReferenceTrace solve_reference(const OscillatorParams& params, const EndStopParams& stops,
+                               const std::vector<double>& a_u, double x0_m, double v0_m_per_s) {
+  OscillatorParams checked = params;
+  checked.integrator = Integrator::exact;
+  DiscreteModel free_model, contact_model;  // the validation only
+  const ConfigResult configured = check_end_stops(checked, stops, free_model, contact_model);
+  if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+  if (params.model == FrictionModel::stribeck || params.model == FrictionModel::smooth) {
+    throw ConfigurationError(
+        "reference solver: end stops are solved for the linear, signum and stick-slip laws (the "
+        "closed form per region); stribeck and smooth are not supported with end stops");
+  }
+  if (a_u.empty()) throw HostError("reference solver: the input has no samples");
+  for (std::size_t n = 0; n < a_u.size(); ++n) {
+    if (!std::isfinite(a_u[n])) {
+      throw HostError(fmt::format("reference solver: a_u[{}] = {} is not finite", n, a_u[n]));
+    }
+  }
+  if (!std::isfinite(x0_m) || !std::isfinite(v0_m_per_s)) {
+    throw HostError(
+        fmt::format("reference solver: the initial state x0 = {} m, v0 = {} m/s is not finite",
+                    x0_m, v0_m_per_s));
+  }
+  reference::StopSolver solver(checked, stops, a_u);
+  return solver.run(x0_m, v0_m_per_s);
+}
+
+}  // namespace stickslip::host

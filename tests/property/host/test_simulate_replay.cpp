@@ -20,12 +20,13 @@
 
 #include <unistd.h>
 
-#include "CppUTest/TestHarness.h"
 #include "property/property_support.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/bus/bus_commands.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/run/simulate_file.hpp"
+// Last: CppUTest redefines `new` for its leak detection.
+#include "CppUTest/TestHarness.h"
 
 using namespace stickslip;
 

@@ -4,11 +4,9 @@
 //
 // a_u is piecewise linear between samples (first-order hold); step(a_u[n]) integrates from
 // t[n-1] to t[n] using a_u[n-1] (kept from the previous call) and a_u[n] only: causal.
-// f_a is an actuator force between cab and seat (positive upward on the seat), held constant over
-// the step it is given with (zero-order hold, as an ECU's output stage holds it): step(a_u[n],
-// f_a[n]) applies f_a[n] from t[n-1] to t[n]. Constant over the step, it shifts the step's input
-// to a_u - f_a/m, so every integrator stays the same affine map (exact stays exact) and the events
-// are located as without it; the stuck test then uses F_L = f_a - (m a_u + k x_r).
+// f_a, an actuator force on the seat (upward positive), is held over the step it comes with:
+// step(a_u[n], f_a[n]) applies f_a[n] from t[n-1] to t[n]. It shifts the step's input to
+// a_u - f_a/m (every integrator's map unchanged, exact stays exact); F_L = f_a - (m a_u + k x_r).
 //
 // The linear part of every integrator is a precomputed affine map (see step_map.hpp); the step
 // does no division and calls no transcendental function except the friction law's own
@@ -129,15 +127,13 @@ class Oscillator {
   // Initial state x_r = x0, v_r = v0 with the input at a_u0. A sticking law starts stuck when
   // v0 = 0 and |F_L(0)| <= F_fs; otherwise it slips in the direction of v0 (or of F_L).
   void reset(T x0_m, T v0_m_per_s, T a_u0) noexcept { reset_shifted(x0_m, v0_m_per_s, a_u0, a_u0); }
-  // The same with an actuator force f_a0 acting at the start (it enters F_L(0); the first step
-  // applies its own f_a). current_with_force(f_a0) gives the outputs of that state.
+  // With an actuator force f_a0 acting at the start (in F_L(0)); see current_with_force().
   void reset(T x0_m, T v0_m_per_s, T a_u0, T f_a0_n) noexcept {
     reset_shifted(x0_m, v0_m_per_s, a_u0, a_u0 - inv_mass_ * f_a0_n);
   }
 
  private:
-  // a_u_shifted = a_u0 - f_a0/m decides the initial mode; a_u0 is the input the next step starts
-  // from.
+  // a_u_shifted = a_u0 - f_a0/m decides the initial mode; the next step starts from a_u0.
   void reset_shifted(T x0_m, T v0_m_per_s, T a_u0, T a_u_shifted) noexcept {
     x_ = x0_m;
     v_ = v0_m_per_s;
@@ -162,9 +158,8 @@ class Oscillator {
   StepOutput<T> current() const noexcept { return output(a_prev_, T(0), 0); }
   // The same with the actuator force f_a acting on that state.
   StepOutput<T> current_with_force(T f_a_n) const noexcept {
-    const T offset = inv_mass_ * f_a_n;
-    StepOutput<T> out = output(a_prev_ - offset, T(0), 0);
-    actuated_output(out, a_prev_, offset);
+    StepOutput<T> out = output(a_prev_ - inv_mass_ * f_a_n, T(0), 0);
+    actuated_step_output(out, a_prev_, inv_mass_ * f_a_n);
     return out;
   }
 
@@ -182,9 +177,8 @@ class Oscillator {
     count_saturation();
   }
 
-  // Advances one sample with the actuator force f_a_n (N, on the seat, upward positive) held over
-  // the step. A non-finite force is replaced by 0 (passive) and counted in rejected_inputs().
-  // Fixed point: input_range_m_per_s2 must cover |a_u - f_a/m|, the input the step integrates.
+  // With the actuator force f_a_n (N) held over the step; a non-finite one counts as rejected and
+  // acts as 0. Fixed point: input_range_m_per_s2 must cover |a_u - f_a/m|, the step's input.
   STICKSLIP_INLINE_STEP StepOutput<T> step(T a_u_next, T f_a_n) noexcept {
     StepOutput<T> out;
     step(a_u_next, f_a_n, out);
@@ -208,18 +202,10 @@ class Oscillator {
     }
   }
 
-  // The outputs of the shifted input a_u - f_a/m, made those of a_u with f_a: stuck, the seat
-  // moves with the floor (a_x = a_u exactly); slipping, a_x gains f_a/m. (The friction output is
-  // already F_L = f_a - (m a_u + k x_r) while stuck.)
-  static void actuated_output(StepOutput<T>& out, T a_u, T accel_offset) noexcept {
-    out.a_x_m_per_s2 = out.stuck ? a_u : out.a_x_m_per_s2 + accel_offset;
-  }
-
  private:
   // Every path fills `out` in place (no temporary copies of it: 28 bytes each on the M0+, whose
   // stack is the scarce resource).
-  // kActuated: the step's input is a_u - accel_offset (accel_offset = f_a/m, see the top); without
-  // it the offset is not formed at all, so step(a_u) computes what it always did.
+  // kActuated: the input is a_u - accel_offset (= f_a/m); without it no offset is formed at all.
   template <bool kActuated>
   STICKSLIP_INLINE_STEP void step_unchecked(T a_u_next, T accel_offset,
                                             StepOutput<T>& out) noexcept {
@@ -242,12 +228,8 @@ class Oscillator {
       if (direction_ == T(0)) {
         const T limit = stuck_limit_force(mass_kg_, stiffness_, x_, in.a1);
         bool holds = !stuck_step_breaks_away(limit, friction_.static_n);
-        if constexpr (kActuated) {
-          // F_L jumps where the force changes, at the step's start: it must hold there too.
-          holds =
-              holds && !stuck_step_breaks_away(stuck_limit_force(mass_kg_, stiffness_, x_, in.a0),
-                                               friction_.static_n);
-        }
+        if constexpr (kActuated)  // F_L jumps at the step's start if the force changed there
+          holds = holds && !stuck_step_breaks_away(limit_force(in.a0, x_), friction_.static_n);
         if (holds) {
           a_prev_ = a_u_next;
           write_stuck_output(out, a_u_next, limit);
@@ -257,7 +239,7 @@ class Oscillator {
       } else if constexpr (!Law::velocity_dependent && S::kCompactStack) {
         if (whole_step_slips(in, out)) {
           a_prev_ = a_u_next;
-          if constexpr (kActuated) actuated_output(out, a_u_next, accel_offset);
+          if constexpr (kActuated) actuated_step_output(out, a_u_next, accel_offset);
           return;
         }
         events = step_sticking(in, stuck_fraction, nullptr);
@@ -272,7 +254,7 @@ class Oscillator {
           slip_a_x_ = moved.seat_acceleration;
           a_prev_ = a_u_next;
           write_slip_output(out, force, moved.seat_acceleration);
-          if constexpr (kActuated) actuated_output(out, a_u_next, accel_offset);
+          if constexpr (kActuated) actuated_step_output(out, a_u_next, accel_offset);
           return;
         }
         // The search starts from this whole step instead of computing it again.
@@ -285,7 +267,7 @@ class Oscillator {
     guard_state();
     write_output(out, in.a1, stuck_fraction, events);
     slip_a_x_ = out.a_x_m_per_s2;  // the seat acceleration the next step starts from, if slipping
-    if constexpr (kActuated) actuated_output(out, a_u_next, accel_offset);
+    if constexpr (kActuated) actuated_step_output(out, a_u_next, accel_offset);
   }
 
  public:

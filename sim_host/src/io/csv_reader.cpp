@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -198,6 +199,9 @@ SampledSignal read_signal_csv(const std::string& path) {
   CsvReader reader(path);
   const std::size_t t_column = reader.column("t");
   const std::size_t a_u_column = reader.column("a_u");
+  const auto& names = reader.columns();
+  const bool actuated = std::find(names.begin(), names.end(), "f_a") != names.end();
+  const std::size_t f_a_column = actuated ? reader.column("f_a") : 0;
   SampledSignal signal;
   double first_step = 0.0;
   while (reader.next_row()) {
@@ -229,6 +233,7 @@ SampledSignal read_signal_csv(const std::string& path) {
     }
     signal.t_s.push_back(t);
     signal.a_u_m_per_s2.push_back(a_u);
+    if (actuated) signal.f_a_n.push_back(reader.number(f_a_column));
   }
   const std::size_t n = signal.t_s.size();
   if (n < 2) {

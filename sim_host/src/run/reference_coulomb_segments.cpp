@@ -36,14 +36,18 @@ void Solver::advance_sticking(Real a0, Real a1) {
 
 Real Solver::stuck_until(Real a0, Real a1, Real tau, int& events_in_sample) {
   const Real limit_end = limit_force(a1);
-  if (std::fabs(limit_end) <= static_) {
+  // Beyond F_fs already (an actuator force that changed at the sample: F_L jumps there): break
+  // away now, the way F_L points now. Otherwise F_L is linear to the end: held if within there.
+  const Real limit_now = limit_force(input_at(a0, a1, tau));
+  const bool beyond_now = std::fabs(limit_now) > static_;
+  if (std::fabs(limit_end) <= static_ && !beyond_now) {
     add_stuck(tau, dt_);
     return dt_;
   }
-  const Real d = sign_of(limit_end);
+  const Real d = beyond_now ? sign_of(limit_now) : sign_of(limit_end);
   // F_L = d F_fs where a_u = -(d F_fs + k x)/m.
   Real tau_break = tau;
-  if (a1 != a0) {
+  if (a1 != a0 && !beyond_now) {
     const Real a_break = -(d * static_ + stiffness_ * x_) / mass_;
     tau_break = dt_ * ((a_break - a0) / (a1 - a0));
     if (!(tau_break > tau)) tau_break = tau;

@@ -49,9 +49,13 @@ enum class Law { linear, coulomb, stribeck, smooth };
 #endif
 class Solver {
  public:
-  Solver(const OscillatorParams& p, const std::vector<double>& a_u)
+  // f_a_n: the actuator force held over each sample interval (f_a_n[n] from t[n-1] to t[n]), or
+  // nullptr for none.
+  Solver(const OscillatorParams& p, const std::vector<double>& a_u,
+         const std::vector<double>* f_a_n = nullptr)
       : p_(p),
         a_u_(a_u),
+        f_a_(f_a_n),
         mass_(wide(p.mass_kg)),
         stiffness_(wide(p.stiffness_n_per_m)),
         damping_(wide(p.damping_ns_per_m)),
@@ -100,6 +104,10 @@ class Solver {
 
  private:
   Real limit_force(Real a_u) const { return -(mass_ * a_u + stiffness_ * x_); }
+  // f_a[n]/m: a force held over the interval is a constant shift of its input a_u -> a_u - f_a/m.
+  Real force_offset(std::size_t n) const {
+    return f_a_ == nullptr ? Real(0) : wide((*f_a_)[n]) / mass_;
+  }
   // a_u at tau inside the current sample (exact at both ends).
   Real input_at(Real a0, Real a1, Real tau) const {
     if (a0 == a1) return a0;  // a constant input stays bit-exact (the stick decisions rely on it)
@@ -171,17 +179,18 @@ class Solver {
 
   void record(ReferenceTrace& trace, std::size_t n) const {
     const Real a_u = wide(a_u_[n]);
+    const Real offset = force_offset(n);
     trace.x_r_m[n] = narrow(x_);
     trace.v_r_m_per_s[n] = narrow(v_);
     if (direction_ == 0) {  // stuck: the friction holds F_L and the seat moves with the floor
-      trace.friction_n[n] = narrow(limit_force(a_u));
+      trace.friction_n[n] = narrow(limit_force(a_u - offset));
       trace.a_x_m_per_s2[n] = a_u_[n];
       trace.stuck[n] = 1;
       return;
     }
     const Real force = wide(friction(static_cast<double>(v_), static_cast<double>(direction_)));
     trace.friction_n[n] = narrow(force);
-    trace.a_x_m_per_s2[n] = narrow(-(stiffness_ * x_ + damping_ * v_ + force) / mass_);
+    trace.a_x_m_per_s2[n] = narrow(offset - (stiffness_ * x_ + damping_ * v_ + force) / mass_);
     trace.stuck[n] = 0;
   }
 
@@ -258,6 +267,7 @@ class Solver {
 
   const OscillatorParams& p_;
   const std::vector<double>& a_u_;
+  const std::vector<double>* f_a_ = nullptr;
   Law law_ = Law::linear;
   Real mass_, stiffness_, damping_, dt_;
   Real kinetic_ = 0, static_ = 0;

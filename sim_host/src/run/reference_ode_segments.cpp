@@ -102,7 +102,8 @@ Crossing Solver::slip_ode(Real a0, Real a1, Real tau, Real& tau_event) {
 }
 
 void Solver::advance_smooth() {
-  const double a0 = a_u_[sample_ - 1], a1 = a_u_[sample_];
+  const double shift = narrow(force_offset(sample_));  // the held actuator force, f_a/m
+  const double a0 = a_u_[sample_ - 1] - shift, a1 = a_u_[sample_] - shift;
   const OdeSystem system{this, a0, (a1 - a0) / p_.dt_s, 1.0};
   const bool kink = p_.smoothing == SmoothingLaw::rational;
   OdeState state{narrow(x_), narrow(v_)};

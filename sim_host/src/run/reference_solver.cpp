@@ -34,7 +34,7 @@ ReferenceTrace Solver::run(double x0, double v0) {
   v_ = wide(v0);
   direction_ = 0;
   if (law_ == Law::coulomb || law_ == Law::stribeck) {
-    const Real limit = limit_force(wide(a_u_[0]));
+    const Real limit = limit_force(wide(a_u_[0]) - force_offset(0));
     if (v_ != 0) {
       direction_ = sign_of(v_);
     } else if (std::fabs(limit) > static_) {
@@ -46,7 +46,8 @@ ReferenceTrace Solver::run(double x0, double v0) {
   record(trace, 0);
   for (std::size_t n = 1; n < count; ++n) {
     sample_ = n;
-    const Real a0 = wide(a_u_[n - 1]), a1 = wide(a_u_[n]);
+    const Real offset = force_offset(n);
+    const Real a0 = wide(a_u_[n - 1]) - offset, a1 = wide(a_u_[n]) - offset;
     switch (law_) {
       case Law::linear:
         advance_linear(a0, a1);
@@ -73,6 +74,13 @@ ReferenceTrace Solver::run(double x0, double v0) {
 
 ReferenceTrace solve_reference(const OscillatorParams& params, const std::vector<double>& a_u,
                                double x0_m, double v0_m_per_s) {
+  return solve_reference_actuated(params, a_u, {}, x0_m, v0_m_per_s);
+}
+
+ReferenceTrace solve_reference_actuated(const OscillatorParams& params,
+                                        const std::vector<double>& a_u,
+                                        const std::vector<double>& f_a_n, double x0_m,
+                                        double v0_m_per_s) {
   OscillatorParams checked = params;
   checked.integrator = Integrator::exact;
   DiscreteModel model;  // only the validation is used; the solution below is independent of it
@@ -84,13 +92,22 @@ ReferenceTrace solve_reference(const OscillatorParams& params, const std::vector
       throw HostError(fmt::format("reference solver: a_u[{}] = {} is not finite", n, a_u[n]));
     }
   }
+  if (!f_a_n.empty() && f_a_n.size() != a_u.size()) {
+    throw HostError(fmt::format("reference solver: {} actuator forces for {} input samples",
+                                f_a_n.size(), a_u.size()));
+  }
+  for (std::size_t n = 0; n < f_a_n.size(); ++n) {
+    if (!std::isfinite(f_a_n[n])) {
+      throw HostError(fmt::format("reference solver: f_a[{}] = {} is not finite", n, f_a_n[n]));
+    }
+  }
   if (!std::isfinite(x0_m) || !std::isfinite(v0_m_per_s)) {
     throw HostError(
         fmt::format("reference solver: the initial state x0 = {} m, v0 = {} m/s is "
                     "not finite",
                     x0_m, v0_m_per_s));
   }
-  reference::Solver solver(checked, a_u);
+  reference::Solver solver(checked, a_u, f_a_n.empty() ? nullptr : &f_a_n);
   return solver.run(x0_m, v0_m_per_s);
 }
 

@@ -160,6 +160,13 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
   } else if (request.scalar == ScalarType::float32) {
     // Converted once, before the loop: the float run sees only floats (and only finite ones).
     for (std::size_t n = 0; n < signal.a_u_m_per_s2.size(); ++n) {
+      const double force = signal.f_a_n.empty() ? 0.0 : signal.f_a_n[n];
+      if (std::fabs(force) > static_cast<double>(FLT_MAX)) {
+        throw HostError(
+            fmt::format("{}: f_a = {} at t = {} s is beyond the range of a float "
+                        "(--scalar float)",
+                        request.input_path, force, signal.t_s[n]));
+      }
       if (std::fabs(signal.a_u_m_per_s2[n]) > static_cast<double>(FLT_MAX)) {
         throw HostError(
             fmt::format("{}: a_u = {} at t = {} s is beyond the range of a float "
@@ -240,6 +247,21 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   }
   SimulationSetup setup = request.setup;
   setup.params.dt_s = dt_s;
+  const std::vector<double>& f_a_n = recording.segments.front().f_a_n;
+  if (!f_a_n.empty()) {
+    if (setup.effects & kEndStops) {
+      throw UsageError(request.input_path +
+                       ": column 'f_a': an actuator force runs with the seat model without end "
+                       "stops; drop the end stops from --scene or the f_a column");
+    }
+    if (recording.segments.size() != 1 ||
+        f_a_n.size() != recording.segments.front().a_u_m_per_s2.size()) {
+      throw UsageError(request.input_path +
+                       ": column 'f_a': an actuator force runs on a recording read as it is (one "
+                       "part, its own step: no --gaps split, no resampling)");
+    }
+    setup.actuator_force_n = &f_a_n;
+  }
 
   // Temporaries first: a bad output path fails before the work; any later failure removes them.
   AtomicOutputFile output(request.output_path);

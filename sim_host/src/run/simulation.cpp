@@ -83,7 +83,10 @@ SimulationSummary simulate_reference(const SimulationSetup& setup, const std::ve
   seconds.reserve(static_cast<std::size_t>(repetitions));
   for (int repetition = 0; repetition < repetitions; ++repetition) {
     const auto start = std::chrono::steady_clock::now();
-    result = solve_reference(setup.params, a_u, setup.x0_m, setup.v0_m_per_s);
+    result = setup.actuator_force_n == nullptr
+                 ? solve_reference(setup.params, a_u, setup.x0_m, setup.v0_m_per_s)
+                 : solve_reference_actuated(setup.params, a_u, *setup.actuator_force_n, setup.x0_m,
+                                            setup.v0_m_per_s);
     const auto stop = std::chrono::steady_clock::now();
     seconds.push_back(std::chrono::duration<double>(stop - start).count());
   }
@@ -158,6 +161,8 @@ SimulationSummary run_fixed_point(const SimulationSetup& setup, const std::vecto
   const int repetitions = repetitions_for(setup, count);
   const double acceleration_unit = units.acceleration_m_per_s2();
   const auto input = [&](double a_m_per_s2) { return T(a_m_per_s2 / acceleration_unit); };
+  const std::vector<double>* force = setup.actuator_force_n;
+  const auto force_at = [&](std::size_t n) { return T((*force)[n] / units.force_n()); };
   const T x0(setup.x0_m / units.length_m), v0(setup.v0_m_per_s / units.velocity_m_per_s());
   RunningStatistics<double> statistics;
   std::uint64_t events = 0, saturated_steps = 0;
@@ -175,15 +180,22 @@ SimulationSummary run_fixed_point(const SimulationSetup& setup, const std::vecto
     // (The initial state's conversions: a value beyond the format is counted as a saturated
     // step of its own.)
     const T a_u0 = input(a_u[0]);
+    const T f_a0 = force != nullptr ? force_at(0) : T(0);
     const bool start_saturated = take_fixed_point_saturation();
-    oscillator.reset(x0, v0, a_u0);
+    if (force != nullptr) {
+      oscillator.reset(x0, v0, a_u0, f_a0);
+      store(0, oscillator.current_with_force(f_a0));
+    } else {
+      oscillator.reset(x0, v0, a_u0);
+      store(0, oscillator.current());
+    }
     statistics.reset();
     events = 0;
-    store(0, oscillator.current());
     statistics.add_sample(a_u0.to_double() * acceleration_unit, trace.a_x_m_per_s2[0]);
     for (std::size_t n = 1; n < count; ++n) {
       const T a_u_n = input(a_u[n]);
-      const StepOutput<T> out = oscillator.step(a_u_n);
+      const StepOutput<T> out =
+          force != nullptr ? oscillator.step(a_u_n, force_at(n)) : oscillator.step(a_u_n);
       store(n, out);
       statistics.add_sample(a_u_n.to_double() * acceleration_unit, trace.a_x_m_per_s2[n]);
       statistics.add_step(out.stuck_fraction.to_double());
@@ -202,6 +214,44 @@ SimulationSummary run_fixed_point(const SimulationSetup& setup, const std::vecto
 
 template <typename Law>
 using Fixed32Seat = ScaledOscillator<Fixed32, Law>;
+
+// The models whose step takes an actuator force (the oscillator; not the end-stop model).
+template <typename Model, typename T, typename = void>
+struct TakesActuatorForce : std::false_type {};
+template <typename Model, typename T>
+struct TakesActuatorForce<
+    Model, T,
+    std::void_t<decltype(std::declval<Model&>().step(std::declval<T>(), std::declval<T>()))>>
+    : std::true_type {};
+
+// The loop of simulate_signal() with the actuator force of every sample; untimed work apart, the
+// same steps as Oscillator::step(a_u, f_a) in a controller's loop.
+template <typename T, typename Model>
+void run_actuated(Model& oscillator, const SimulationSetup& setup, const T* input,
+                  const std::vector<T>& force, std::size_t count, RunningStatistics<T>& statistics,
+                  std::uint64_t& events, SimulationTrace<T>& trace) {
+  oscillator.reset(static_cast<T>(setup.x0_m), static_cast<T>(setup.v0_m_per_s), input[0],
+                   force[0]);
+  statistics.reset();
+  events = 0;
+  const auto store = [&](std::size_t n, const StepOutput<T>& out) {
+    trace.x_r_m[n] = out.x_r_m;
+    trace.v_r_m_per_s[n] = out.v_r_m_per_s;
+    trace.a_x_m_per_s2[n] = out.a_x_m_per_s2;
+    trace.friction_n[n] = out.friction_n;
+    trace.stuck[n] = out.stuck ? 1 : 0;
+  };
+  const StepOutput<T> initial = oscillator.current_with_force(force[0]);
+  store(0, initial);
+  statistics.add_sample(input[0], initial.a_x_m_per_s2);
+  for (std::size_t n = 1; n < count; ++n) {
+    const StepOutput<T> out = oscillator.step(input[n], force[n]);
+    store(n, out);
+    statistics.add_sample(input[n], out.a_x_m_per_s2);
+    statistics.add_step(out.stuck_fraction);
+    events += out.events;
+  }
+}
 
 }  // namespace
 
@@ -274,7 +324,22 @@ SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vecto
 
     std::vector<double> seconds;
     seconds.reserve(static_cast<std::size_t>(repetitions));
-    for (int repetition = 0; repetition < repetitions; ++repetition) {
+    if (setup.actuator_force_n != nullptr) {
+      using Model = std::remove_reference_t<decltype(oscillator)>;
+      if constexpr (TakesActuatorForce<Model, T>::value) {
+        const std::vector<T> force(setup.actuator_force_n->begin(), setup.actuator_force_n->end());
+        for (int repetition = 0; repetition < repetitions; ++repetition) {
+          const auto start = std::chrono::steady_clock::now();
+          run_actuated(oscillator, setup, input, force, count, statistics, events, trace);
+          const auto stop = std::chrono::steady_clock::now();
+          seconds.push_back(std::chrono::duration<double>(stop - start).count());
+        }
+      } else {
+        throw UsageError("f_a: an actuator force runs with the seat model without end stops");
+      }
+    }
+    const bool passive = setup.actuator_force_n == nullptr;
+    for (int repetition = 0; passive && repetition < repetitions; ++repetition) {
       const auto start = std::chrono::steady_clock::now();
       oscillator.reset(x0, v0, input[0]);
       statistics.reset();

@@ -45,7 +45,7 @@ struct OscillatorParams {
   // refuses a scene whose values at these ranges would not fit
   // (integrators/fixed_point_scaling.hpp); beyond them a run saturates and says so
   // (Oscillator::saturated_steps()).
-  double input_range_m_per_s2 = 50.0;  // largest |a_u|
+  double input_range_m_per_s2 = 50.0;  // largest |a_u| (with an actuator force: |a_u - f_a/m|)
   double displacement_range_m = 1.0;   // largest |x_r|
 };
 

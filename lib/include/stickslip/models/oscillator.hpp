@@ -1,9 +1,12 @@
 // The seat oscillator with dry friction, stepped one input sample at a time.
 //
-//   m dv_r/dt + b v_r + k x_r + F_f = -m a_u,     a_x = -(k x_r + b v_r + F_f)/m
+//   m dv_r/dt + b v_r + k x_r + F_f = -m a_u + f_a,     a_x = (f_a - (k x_r + b v_r + F_f))/m
 //
 // a_u is piecewise linear between samples (first-order hold); step(a_u[n]) integrates from
 // t[n-1] to t[n] using a_u[n-1] (kept from the previous call) and a_u[n] only: causal.
+// f_a, an actuator force on the seat (upward positive), is held over the step it comes with:
+// step(a_u[n], f_a[n]) applies f_a[n] from t[n-1] to t[n]. It shifts the step's input to
+// a_u - f_a/m (every integrator's map unchanged, exact stays exact); F_L = f_a - (m a_u + k x_r).
 //
 // The linear part of every integrator is a precomputed affine map (see step_map.hpp); the step
 // does no division and calls no transcendental function except the friction law's own
@@ -123,7 +126,15 @@ class Oscillator {
 
   // Initial state x_r = x0, v_r = v0 with the input at a_u0. A sticking law starts stuck when
   // v0 = 0 and |F_L(0)| <= F_fs; otherwise it slips in the direction of v0 (or of F_L).
-  void reset(T x0_m, T v0_m_per_s, T a_u0) noexcept {
+  void reset(T x0_m, T v0_m_per_s, T a_u0) noexcept { reset_shifted(x0_m, v0_m_per_s, a_u0, a_u0); }
+  // With an actuator force f_a0 acting at the start (in F_L(0)); see current_with_force().
+  void reset(T x0_m, T v0_m_per_s, T a_u0, T f_a0_n) noexcept {
+    reset_shifted(x0_m, v0_m_per_s, a_u0, a_u0 - inv_mass_ * f_a0_n);
+  }
+
+ private:
+  // a_u_shifted = a_u0 - f_a0/m decides the initial mode; the next step starts from a_u0.
+  void reset_shifted(T x0_m, T v0_m_per_s, T a_u0, T a_u_shifted) noexcept {
     x_ = x0_m;
     v_ = v0_m_per_s;
     a_prev_ = a_u0;
@@ -132,7 +143,7 @@ class Oscillator {
       held_force_ = Law::force(v_, friction_);
       reported_force_ = held_force_;
     } else if constexpr (Law::kind == LawKind::sticking) {
-      const T limit = limit_force(a_u0, x_);
+      const T limit = limit_force(a_u_shifted, x_);
       if (v_ == T(0)) {
         direction_ = S::abs(limit) <= friction_.static_n ? T(0) : signum(limit);
       } else {
@@ -142,8 +153,15 @@ class Oscillator {
     slip_a_x_ = current().a_x_m_per_s2;
   }
 
+ public:
   // The outputs for the current state (the first row of a simulation, before any step).
   StepOutput<T> current() const noexcept { return output(a_prev_, T(0), 0); }
+  // The same with the actuator force f_a acting on that state.
+  StepOutput<T> current_with_force(T f_a_n) const noexcept {
+    StepOutput<T> out = output(a_prev_ - inv_mass_ * f_a_n, T(0), 0);
+    actuated_step_output(out, a_prev_, inv_mass_ * f_a_n);
+    return out;
+  }
 
   // Advances one sample: from the previous input a_u[n-1] to a_u_next = a_u[n].
   // A non-finite input is replaced by the previous one and counted in rejected_inputs().
@@ -155,7 +173,28 @@ class Oscillator {
   // The same, writing the outputs in place: an MCU keeps them in a static record, and the step
   // then holds no copy of them on its stack.
   STICKSLIP_INLINE_STEP void step(T a_u_next, StepOutput<T>& out) noexcept {
-    step_unchecked(a_u_next, out);
+    step_unchecked<false>(a_u_next, T(0), out);
+    count_saturation();
+  }
+
+  // With the actuator force f_a_n (N) held over the step; a non-finite one counts as rejected and
+  // acts as 0. Fixed point: input_range_m_per_s2 must cover |a_u - f_a/m|, the step's input.
+  STICKSLIP_INLINE_STEP StepOutput<T> step(T a_u_next, T f_a_n) noexcept {
+    StepOutput<T> out;
+    step(a_u_next, f_a_n, out);
+    return out;
+  }
+  STICKSLIP_INLINE_STEP void step(T a_u_next, T f_a_n, StepOutput<T>& out) noexcept {
+    if (!S::is_finite(f_a_n)) {
+      f_a_n = T(0);
+      ++counters_.rejected_inputs;
+    }
+    step_unchecked<true>(a_u_next, inv_mass_ * f_a_n, out);
+    count_saturation();
+  }
+
+ private:
+  void count_saturation() noexcept {
     if constexpr (S::kTracksSaturation) {
       // Fixed point: every operation of this step that saturated set the sticky flag (so did
       // the caller's conversion of a_u_next, if it did not fit): count the step.
@@ -166,12 +205,16 @@ class Oscillator {
  private:
   // Every path fills `out` in place (no temporary copies of it: 28 bytes each on the M0+, whose
   // stack is the scarce resource).
-  STICKSLIP_INLINE_STEP void step_unchecked(T a_u_next, StepOutput<T>& out) noexcept {
+  // kActuated: the input is a_u - accel_offset (= f_a/m); without it no offset is formed at all.
+  template <bool kActuated>
+  STICKSLIP_INLINE_STEP void step_unchecked(T a_u_next, T accel_offset,
+                                            StepOutput<T>& out) noexcept {
     if (!S::is_finite(a_u_next)) {  // replaced by the previous sample, counted
       a_u_next = a_prev_;
       ++counters_.rejected_inputs;
     }
-    const Input in{a_prev_, a_u_next};
+    Input in{a_prev_, a_u_next};
+    if constexpr (kActuated) in = Input{a_prev_ - accel_offset, a_u_next - accel_offset};
     T stuck_fraction = T(0);
     int events = 0;
 
@@ -184,7 +227,10 @@ class Oscillator {
       // whole step slipping without a sign change of v_r. Anything else runs the event search.
       if (direction_ == T(0)) {
         const T limit = stuck_limit_force(mass_kg_, stiffness_, x_, in.a1);
-        if (!stuck_step_breaks_away(limit, friction_.static_n)) {
+        bool holds = !stuck_step_breaks_away(limit, friction_.static_n);
+        if constexpr (kActuated)  // F_L jumps at the step's start if the force changed there
+          holds = holds && !stuck_step_breaks_away(limit_force(in.a0, x_), friction_.static_n);
+        if (holds) {
           a_prev_ = a_u_next;
           write_stuck_output(out, a_u_next, limit);
           return;
@@ -193,6 +239,7 @@ class Oscillator {
       } else if constexpr (!Law::velocity_dependent && S::kCompactStack) {
         if (whole_step_slips(in, out)) {
           a_prev_ = a_u_next;
+          if constexpr (kActuated) actuated_step_output(out, a_u_next, accel_offset);
           return;
         }
         events = step_sticking(in, stuck_fraction, nullptr);
@@ -207,6 +254,7 @@ class Oscillator {
           slip_a_x_ = moved.seat_acceleration;
           a_prev_ = a_u_next;
           write_slip_output(out, force, moved.seat_acceleration);
+          if constexpr (kActuated) actuated_step_output(out, a_u_next, accel_offset);
           return;
         }
         // The search starts from this whole step instead of computing it again.
@@ -217,8 +265,9 @@ class Oscillator {
     }
     a_prev_ = a_u_next;
     guard_state();
-    write_output(out, a_u_next, stuck_fraction, events);
+    write_output(out, in.a1, stuck_fraction, events);
     slip_a_x_ = out.a_x_m_per_s2;  // the seat acceleration the next step starts from, if slipping
+    if constexpr (kActuated) actuated_step_output(out, a_u_next, accel_offset);
   }
 
  public:

@@ -191,11 +191,20 @@ class ScaledOscillator {
   STICKSLIP_INLINE_STEP void step(T a_u_scaled, StepOutput<T>& out) noexcept {
     oscillator_.step(a_u_scaled, out);
   }
+  // With the actuator force f_a in units of units().force_n() (force() converts), held over the
+  // step; the input range must cover |a_u - f_a/m| (see Oscillator::step).
+  STICKSLIP_INLINE_STEP StepOutput<T> step(T a_u_scaled, T f_a_scaled) noexcept {
+    return oscillator_.step(a_u_scaled, f_a_scaled);
+  }
+  STICKSLIP_INLINE_STEP void step(T a_u_scaled, T f_a_scaled, StepOutput<T>& out) noexcept {
+    oscillator_.step(a_u_scaled, f_a_scaled, out);
+  }
 
   // Host-side conversions (double): SI -> scene units and back.
   T acceleration(double a_m_per_s2) const noexcept {
     return S::from_double(a_m_per_s2 / units_.acceleration_m_per_s2());
   }
+  T force(double f_n) const noexcept { return S::from_double(f_n / units_.force_n()); }
   double to_si_acceleration(T a) const noexcept {
     return S::to_double(a) * units_.acceleration_m_per_s2();
   }

@@ -33,6 +33,14 @@ struct SafetyCounters {
   std::uint64_t saturated_steps = 0;         // fixed point: steps in which an operation saturated
 };
 
+// The outputs of a step run on the shifted input a_u - f_a/m (an actuator force f_a held over the
+// step), made those of a_u with f_a: stuck, the seat moves with the floor (a_x = a_u exactly);
+// slipping, a_x gains f_a/m. (The friction output is already F_L = f_a - (m a_u + k x_r).)
+template <typename T>
+inline void actuated_step_output(StepOutput<T>& out, T a_u, T accel_offset) noexcept {
+  out.a_x_m_per_s2 = out.stuck ? a_u : out.a_x_m_per_s2 + accel_offset;
+}
+
 // The input over the current step, linear in the fraction of the step phi in [0, 1]
 // (first-order hold between the samples a0 and a1).
 template <typename T>

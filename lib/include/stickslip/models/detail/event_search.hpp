@@ -329,19 +329,29 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
       // Stuck: F_L is linear in time inside the step; check the end, then solve for break-away.
       const T limit_end = limit_force(in.a1, x_);
       const T phi_now = phi(pos);
-      if (S::abs(limit_end) <= friction_.static_n || events >= kMaxEventsPerStep) {
+      // Held to the end if F_L is within F_fs at the end and now; now needs a test only at the
+      // step's start, where an actuator force that changed makes F_L jump (inside the step F_L
+      // is continuous and the stick decision left it within F_fs).
+      if ((S::abs(limit_end) <= friction_.static_n &&
+           (pos.tick != 0u || pos.frac != T(0) ||
+            S::abs(limit_force(in.a0, x_)) <= friction_.static_n)) ||
+          events >= kMaxEventsPerStep) {
         if (events >= kMaxEventsPerStep) ++counters_.event_budget_exhausted;
         stuck_fraction += T(1) - phi_now;
         return events;
       }
       const T limit_now = limit_force(in.at(phi_now), x_);
-      const T d = signum(limit_end);
+      T d = signum(limit_end);
       // |F_L| crosses F_fs between now and the end; the denominator is non-zero because
       // |limit_now| < F_fs < |limit_end| (at or above F_fs already: break away now).
       T ratio = T(0);
       if (S::abs(limit_now) < friction_.static_n) {
         ratio = S::proportion(d * friction_.static_n - limit_now, limit_end - limit_now);
         ratio = ratio < T(0) ? T(0) : (ratio > T(1) ? T(1) : ratio);
+      } else if (S::abs(limit_now) > friction_.static_n) {
+        // Beyond F_fs already (an actuator force that changed at the sample: F_L jumps there):
+        // break away the way F_L points now.
+        d = signum(limit_now);
       }
       const T phi_break = phi_now + ratio * (T(1) - phi_now);
       stuck_fraction += phi_break - phi_now;

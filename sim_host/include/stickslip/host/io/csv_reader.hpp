@@ -54,13 +54,16 @@ struct SampledSignal {
   std::vector<double> t_s;
   std::vector<double> a_u_m_per_s2;
   double dt_s = 0.0;  // (t_last - t_0) / (n - 1)
+  // The optional column f_a: an actuator force (N, on the seat, upward positive), f_a[n] held over
+  // the step from t[n-1] to t[n]. Empty when the file has no such column.
+  std::vector<double> f_a_n;
 };
 
 // Relative tolerance on every step t[i] - t[i-1] against the first step.
 inline constexpr double kUniformStepTolerance = 1e-6;
 
-// Reads columns `t` and `a_u` (others are ignored); requires at least 2 samples, finite values
-// and a uniform, increasing t.
+// Reads columns `t`, `a_u` and, if present, `f_a` (others are ignored); requires at least 2
+// samples, finite values and a uniform, increasing t.
 SampledSignal read_signal_csv(const std::string& path);
 
 }  // namespace stickslip::host

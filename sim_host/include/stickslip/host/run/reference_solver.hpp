@@ -63,4 +63,15 @@ ReferenceTrace solve_reference(const OscillatorParams& params, const EndStopPara
                                const std::vector<double>& a_u, double x0_m = 0.0,
                                double v0_m_per_s = 0.0);
 
+// The same with an actuator force f_a (N, on the seat, upward positive) held constant over each
+// sample interval: f_a_n[n] acts from t[n-1] to t[n] (f_a_n[0] only at the initial state), so
+//   m dv_r/dt + b v_r + k x_r + F_f = -m a_u + f_a,   a_x = (f_a - (k x_r + b v_r + F_f))/m,
+// and F_L = f_a - (m a_u + k x_r). A force held over an interval is a constant shift of that
+// interval's input by -f_a/m: the closed forms above hold unchanged. f_a_n empty: no force; else
+// one per sample, finite (HostError otherwise).
+ReferenceTrace solve_reference_actuated(const OscillatorParams& params,
+                                        const std::vector<double>& a_u,
+                                        const std::vector<double>& f_a_n, double x0_m = 0.0,
+                                        double v0_m_per_s = 0.0);
+
 }  // namespace stickslip::host

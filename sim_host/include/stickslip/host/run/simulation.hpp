@@ -29,6 +29,9 @@ struct SimulationSetup {
   // The scene's effects (models/scene.hpp): with kEndStops the end-stop model runs, with `stops`.
   unsigned effects = kSpring | kDamper | kCoulomb | kStaticFriction | kStribeck;
   EndStopParams stops;
+  // An actuator force (N) per input sample, held over the step that ends at that sample
+  // (Oscillator::step(a_u, f_a)); nullptr: none, and the run is the plain step(a_u) loop.
+  const std::vector<double>* actuator_force_n = nullptr;
 };
 
 inline constexpr std::uint64_t kManySteps = 2000000;

@@ -221,7 +221,7 @@ cangen_burst() {
 check "cangen burst: the node keeps running and counts the frames" cangen_burst
 
 # 5. The node under load and faults (ecu-load-faults). A 65 s recording (65001 samples, so the
-#    16-bit counter does not wrap) is played at ${VCAN_LOAD_SPEED:-10}x real time, 10 kHz, by
+#    16-bit counter does not wrap) is played at ${VCAN_LOAD_SPEED:-3}x real time, 3 kHz, by
 #    stickslip play (it goes on when the bus refuses a frame; canplayer would stop), while cangen
 #    floods the bus with id 123 at 1 kHz and candump -D captures ids 100 and 123 throughout.
 #    Half a second in, node1 is killed (SIGKILL) and node2 started; 0.3 s after node2 listens it
@@ -245,7 +245,7 @@ check "cangen burst: the node keeps running and counts the frames" cangen_burst
 #      sequence of samples: nothing came from a corrupted, stale or misplaced frame.
 #    node1's counters die with it (SIGKILL); node2's and node3's are checked.
 load_duration="${VCAN_LOAD_DURATION_S:-65}"  # recording length, s (sample number < 2^16)
-load_speed="${VCAN_LOAD_SPEED:-10}"
+load_speed="${VCAN_LOAD_SPEED:-3}"
 # Priorities on the guest's one (emulated, slow) CPU: the node and the sender (cheap: a send
 # per frame, woken once a millisecond) at niceness -10, as an ECU's control task and a sensor
 # would be; the flood at 0; candump at 10 (its 64 MiB buffer holds the stream, it catches up

@@ -4,7 +4,7 @@
 # Environment: VCAN_DURATION_S (recording replayed over vcan0, default 10 s), VCAN_FULL_DURATION_S
 # (the full recording replayed by stickslip replay over vcan0, default 120 s), VCAN_BURST_S
 # (cangen burst, default 10 s), VCAN_LOAD_DURATION_S / VCAN_LOAD_SPEED (the load and fault test:
-# recording length, default 65 s, played at default 10x), VCAN_ONLY (only the checks whose name
+# recording length, default 65 s, played at default 3x), VCAN_ONLY (only the checks whose name
 # contains it), VCAN_QEMU_TIMEOUT (default 600 s).
 # Where this host has vcan0 up, runs guest-tests.sh natively. Otherwise builds the guest
 # (build-initramfs.sh, cached in DIR) and boots it with qemu-system-x86_64 under TCG; the guest

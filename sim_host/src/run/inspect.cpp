@@ -3,11 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <optional>
-#include <regex>
 
 #include "recording_series.hpp"
 #include "stickslip/host/error.hpp"
@@ -118,15 +118,38 @@ std::string suggestion(const std::string& path, const std::string& flags) {
       shell_word(path), flags, shell_word(stem + ".trace.csv"));
 }
 
-// "Sample rate: 512 Hz" in a logger's banner.
+bool is_digit(char c) {
+  return c >= '0' && c <= '9';
+}
+
+// The number right before "Hz" at `hz` (blanks between allowed): digits, with at most one '.' or
+// ',' between digits; empty when there is none. A scan rather than std::regex, whose GCC 12
+// headers trip -Wmaybe-uninitialized in the sanitizer build.
+std::string number_before(const std::string& line, std::size_t hz) {
+  std::size_t end = hz;
+  while (end > 0 && std::isspace(static_cast<unsigned char>(line[end - 1]))) --end;
+  std::size_t begin = end;
+  while (begin > 0 && is_digit(line[begin - 1])) --begin;
+  if (begin == end) return std::string();
+  if (begin >= 2 && (line[begin - 1] == '.' || line[begin - 1] == ',') &&
+      is_digit(line[begin - 2])) {
+    --begin;
+    while (begin > 0 && is_digit(line[begin - 1])) --begin;
+  }
+  return line.substr(begin, end - begin);
+}
+
+// "Sample rate: 512 Hz" in a logger's banner (the first number followed by Hz, any case).
 std::optional<double> banner_rate(const std::string& path, std::size_t lines_above) {
   std::ifstream file(path);
   std::string line;
-  const std::regex rate(R"(([0-9]+(?:[.,][0-9]+)?)\s*Hz)", std::regex::icase);
   for (std::size_t n = 0; n < lines_above && std::getline(file, line); ++n) {
-    std::smatch match;
-    if (std::regex_search(line, match, rate)) {
-      std::string number = match[1];
+    for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+      if (std::tolower(static_cast<unsigned char>(line[i])) != 'h' ||
+          std::tolower(static_cast<unsigned char>(line[i + 1])) != 'z')
+        continue;
+      std::string number = number_before(line, i);
+      if (number.empty()) continue;
       std::replace(number.begin(), number.end(), ',', '.');
       return std::stod(number);
     }

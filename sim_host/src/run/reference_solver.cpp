@@ -24,11 +24,7 @@ namespace reference {
 ReferenceTrace Solver::run(double x0, double v0) {
   const std::size_t count = a_u_.size();
   ReferenceTrace trace;
-  trace.x_r_m.resize(count);
-  trace.v_r_m_per_s.resize(count);
-  trace.a_x_m_per_s2.resize(count);
-  trace.friction_n.resize(count);
-  trace.stuck.resize(count);
+  trace.resize(count);
 
   x_ = wide(x0);
   v_ = wide(v0);

@@ -142,11 +142,7 @@ void prepare_fixed_point_run(const SimulationSetup& setup, std::size_t count,
     }
     throw ConfigurationError(refused.message.c_str());
   }
-  trace.x_r_m.resize(count);
-  trace.v_r_m_per_s.resize(count);
-  trace.a_x_m_per_s2.resize(count);
-  trace.friction_n.resize(count);
-  trace.stuck.resize(count);
+  trace.resize(count);
 }
 
 // The timed loop of a configured fixed-point oscillator whose values are in `units` (all 1 for
@@ -291,11 +287,7 @@ SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vecto
           "--scalar double");
     }
   }
-  trace.x_r_m.resize(count);
-  trace.v_r_m_per_s.resize(count);
-  trace.a_x_m_per_s2.resize(count);
-  trace.friction_n.resize(count);
-  trace.stuck.resize(count);
+  trace.resize(count);
   const int repetitions = repetitions_for(setup, count);
   const T x0 = static_cast<T>(setup.x0_m);
   const T v0 = static_cast<T>(setup.v0_m_per_s);

@@ -43,6 +43,11 @@ struct ReferenceTrace {
   double stuck_time_s = 0;     // total time stuck, exact (from the located instants)
   std::uint64_t events = 0;    // stick, break-away and reversal events
   std::uint64_t contacts = 0;  // with end stops: contacts begun
+
+  void resize(std::size_t rows) {
+    for (auto* column : {&x_r_m, &v_r_m_per_s, &a_x_m_per_s2, &friction_n}) column->resize(rows);
+    stuck.resize(rows);
+  }
 };
 
 // Event-driven reference for params.model on the FOH input a_u sampled at params.dt_s, from x0, v0

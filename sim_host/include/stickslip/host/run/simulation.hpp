@@ -41,6 +41,11 @@ template <typename T>
 struct SimulationTrace {
   std::vector<T> x_r_m, v_r_m_per_s, a_x_m_per_s2, friction_n;
   std::vector<std::uint8_t> stuck;
+
+  void resize(std::size_t rows) {
+    for (auto* column : {&x_r_m, &v_r_m_per_s, &a_x_m_per_s2, &friction_n}) column->resize(rows);
+    stuck.resize(rows);
+  }
 };
 
 struct SimulationSummary {

@@ -46,9 +46,9 @@ TEST_GROUP(ClosedLoopCommand){};
 TEST(ClosedLoopCommand, PassiveControllerEqualsSimulateBitForBit) {
   test::TempDir dir;
   const std::string input = lorry(dir);
-  const test::CliRun simulate = test::run_stickslip(with(
-      {"simulate", "--input", input, "--output", dir.file("sim.csv"), "--repetitions", "1"},
-      kSeat));
+  const test::CliRun simulate = test::run_stickslip(
+      with({"simulate", "--input", input, "--output", dir.file("sim.csv"), "--repetitions", "1"},
+           kSeat));
   CHECK_EQUAL(0, simulate.status);
   const test::CliRun loop = test::run_stickslip(
       with({"closed-loop", "--input", input, "--output", dir.file("loop.csv"), "--controller",
@@ -62,7 +62,8 @@ TEST(ClosedLoopCommand, PassiveControllerEqualsSimulateBitForBit) {
   CHECK_EQUAL(8u, closed.header.size());
   STRCMP_EQUAL("f_a", closed.header[7].c_str());
   for (std::size_t n = 0; n < sim.rows.size(); ++n) {
-    for (std::size_t c = 0; c < 7; ++c) CHECK_TRUE(test::bit_equal(sim.rows[n][c], closed.rows[n][c]));
+    for (std::size_t c = 0; c < 7; ++c)
+      CHECK_TRUE(test::bit_equal(sim.rows[n][c], closed.rows[n][c]));
     CHECK_TRUE(test::bit_equal(0.0, closed.rows[n][7]));
   }
   const nlohmann::json s = last_json(simulate.out), l = last_json(loop.out);
@@ -71,8 +72,8 @@ TEST(ClosedLoopCommand, PassiveControllerEqualsSimulateBitForBit) {
     // The same double, not merely close: the same loop and the same statistics.
     CHECK_TRUE(test::bit_equal(s["T_ax"].get<double>(), f["T_ax"].get<double>()));
     CHECK_TRUE(test::bit_equal(s["p_stick"].get<double>(), f["p_stick"].get<double>()));
-    CHECK_TRUE(
-        test::bit_equal(s["seat_weighted_rms"].get<double>(), f["seat_weighted_rms"].get<double>()));
+    CHECK_TRUE(test::bit_equal(s["seat_weighted_rms"].get<double>(),
+                               f["seat_weighted_rms"].get<double>()));
     CHECK_TRUE(test::bit_equal(s["floor_weighted_rms"].get<double>(),
                                f["floor_weighted_rms"].get<double>()));
     CHECK_TRUE(test::bit_equal(s["seat"].get<double>(), f["seat"].get<double>()));
@@ -97,16 +98,16 @@ TEST(ClosedLoopCommand, LoopForceFedBackIntoSimulateGivesTheSameSeatBitForBit) {
       {"--controller", "groundhook-semi", "--observer", "ideal"},
       {"--controller", "friction-compensation"}};
   for (const auto& controller : controllers) {
-    const test::CliRun loop = test::run_stickslip(with(
-        with({"closed-loop", "--input", input, "--output", dir.file("loop.csv")}, kSeat),
-        controller));
+    const test::CliRun loop = test::run_stickslip(
+        with(with({"closed-loop", "--input", input, "--output", dir.file("loop.csv")}, kSeat),
+             controller));
     CHECK_EQUAL(0, loop.status);
     const nlohmann::json l = last_json(loop.out);
     CHECK_TRUE(l["controlled"]["force_rms"].get<double>() > 1.0);  // the force did act
-    const test::CliRun simulate = test::run_stickslip(with(
-        {"simulate", "--input", dir.file("loop.csv"), "--output", dir.file("sim.csv"),
-         "--repetitions", "1"},
-        kSeat));
+    const test::CliRun simulate =
+        test::run_stickslip(with({"simulate", "--input", dir.file("loop.csv"), "--output",
+                                  dir.file("sim.csv"), "--repetitions", "1"},
+                                 kSeat));
     CHECK_EQUAL(0, simulate.status);
     const test::Table closed = test::read_table(dir.file("loop.csv"));
     const test::Table sim = test::read_table(dir.file("sim.csv"));
@@ -126,17 +127,17 @@ TEST(ClosedLoopCommand, LoopForceFedBackIntoSimulateGivesTheSameSeatBitForBit) {
 TEST(ClosedLoopCommand, SweepEndpointsEqualSingleRunsAtThoseGains) {
   test::TempDir dir;
   const std::string input = lorry(dir);
-  const std::vector<std::string> base = with(
-      {"closed-loop", "--input", input, "--controller", "skyhook-semi", "--a-x-noise", "0.02"},
-      kSeat);
+  const std::vector<std::string> base =
+      with({"closed-loop", "--input", input, "--controller", "skyhook-semi", "--a-x-noise", "0.02"},
+           kSeat);
   const test::CliRun sweep = test::run_stickslip(
       with(base, {"--output", dir.file("sweep.csv"), "--sweep-gain", "500:2500:3"}));
   CHECK_EQUAL(0, sweep.status);
   const test::Table rows = test::read_table(dir.file("sweep.csv"));
   CHECK_TRUE(rows.ok);
   CHECK_EQUAL(3u, rows.rows.size());
-  const char* keys[] = {"seat_weighted_rms", "seat",     "T_ax",       "vdv",
-                        "travel",            "force_rms", "force_peak", "mean_power"};
+  const char* keys[] = {"seat_weighted_rms", "seat",       "T_ax",      "vdv", "travel",
+                        "force_rms",         "force_peak", "mean_power"};
   for (const std::size_t row : {std::size_t{0}, std::size_t{2}}) {
     const std::string gain = row == 0 ? "500" : "2500";
     const test::CliRun single =
@@ -160,23 +161,22 @@ TEST(ClosedLoopCommand, RefusesEndStopsAndAnUnknownControllerWithExit2) {
   CHECK_EQUAL(2, stops.status);
   CHECK_TRUE(stops.err.find("end stops") != std::string::npos);
   CHECK_FALSE(test::exists(dir.file("loop.csv")));
-  const test::CliRun unknown = test::run_stickslip(
-      with({"closed-loop", "--input", input, "--output", dir.file("loop.csv"), "--controller",
-            "skyhok"},
-           kSeat));
+  const test::CliRun unknown = test::run_stickslip(with(
+      {"closed-loop", "--input", input, "--output", dir.file("loop.csv"), "--controller", "skyhok"},
+      kSeat));
   CHECK_EQUAL(2, unknown.status);
   CHECK_TRUE(unknown.err.find("did you mean skyhook") != std::string::npos);
-  const test::CliRun sweep_passive = test::run_stickslip(with(
-      {"closed-loop", "--input", input, "--output", dir.file("loop.csv"), "--sweep-gain", "0:100:3"},
-      kSeat));
+  const test::CliRun sweep_passive =
+      test::run_stickslip(with({"closed-loop", "--input", input, "--output", dir.file("loop.csv"),
+                                "--sweep-gain", "0:100:3"},
+                               kSeat));
   CHECK_EQUAL(2, sweep_passive.status);
   CHECK_TRUE(sweep_passive.err.find("--sweep-gain") != std::string::npos);
   CHECK_FALSE(test::exists(dir.file("loop.csv")));
   // A recording that already carries a force: the loop computes its own, so it is refused.
   test::write_text(dir.file("forced.csv"), "t,a_u,f_a\n0,0,0\n0.001,0.1,1\n0.002,0.2,2\n");
-  const test::CliRun with_force = test::run_stickslip(
-      with({"closed-loop", "--input", dir.file("forced.csv"), "--output", dir.file("loop.csv")},
-           kSeat));
+  const test::CliRun with_force = test::run_stickslip(with(
+      {"closed-loop", "--input", dir.file("forced.csv"), "--output", dir.file("loop.csv")}, kSeat));
   CHECK_EQUAL(2, with_force.status);
   CHECK_TRUE(with_force.err.find("column 'f_a'") != std::string::npos);
   CHECK_FALSE(test::exists(dir.file("loop.csv")));

@@ -1,8 +1,8 @@
 #include "stickslip/host/run/closed_loop.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -94,8 +94,7 @@ ClosedLoopParams closed_loop_params(const ClosedLoopSetup& setup, double dt_s) {
   p.estimator.stiffness_n_per_m = seat.stiffness_n_per_m;
   p.estimator.damping_ns_per_m = seat.damping_ns_per_m;
   p.estimator.initial_kinetic_friction_n = seat.kinetic_friction_n;
-  p.estimator.initial_static_friction_n =
-      std::max(seat.static_friction_n, seat.kinetic_friction_n);
+  p.estimator.initial_static_friction_n = std::max(seat.static_friction_n, seat.kinetic_friction_n);
   // The filter's belief about the sensors: what they are declared to be, where declared.
   if (setup.a_x_noise_m_per_s2 > 0.0)
     p.estimator.seat_acceleration_noise_m_per_s2 = setup.a_x_noise_m_per_s2;
@@ -220,8 +219,8 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
 GainSweep parse_gain_sweep(const std::string& text) {
   GainSweep sweep;
   const auto bad = [&text](const char* why) {
-    return UsageError(fmt::format("--sweep-gain {}: {} (expected LO:HI:N, e.g. 0:4000:9)", text,
-                                  why));
+    return UsageError(
+        fmt::format("--sweep-gain {}: {} (expected LO:HI:N, e.g. 0:4000:9)", text, why));
   };
   const std::size_t first = text.find(':');
   const std::size_t second = first == std::string::npos ? first : text.find(':', first + 1);
@@ -357,10 +356,10 @@ void check_request(const ClosedLoopRequest& request) {
         "no actuator input yet); drop the end stops from the scene");
   }
   if (request.sweep.count > 0 && !is_hook(s.controller)) {
-    throw UsageError(fmt::format(
-        "--sweep-gain: sweeps the hook gain of skyhook, groundhook, skyhook-semi or "
-        "groundhook-semi; --controller {} has none",
-        controller_name(s.controller)));
+    throw UsageError(
+        fmt::format("--sweep-gain: sweeps the hook gain of skyhook, groundhook, skyhook-semi or "
+                    "groundhook-semi; --controller {} has none",
+                    controller_name(s.controller)));
   }
   if (!request.plot_path.empty() && request.sweep.count == 0)
     throw UsageError("--plot: draws the Pareto plot of a --sweep-gain run");
@@ -462,25 +461,24 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
     writer.text(
         "gain,seat_weighted_rms,seat,T_ax,vdv,travel,force_rms,force_peak,mean_power,"
         "seat_weighted_rms_ratio\n");
-    result.sweep_rows = fmt::format("{:>10} {:>12} {:>8} {:>8} {:>10} {:>10} {:>11}\n", "gain",
-                                    "seat_w_rms", "SEAT", "T_ax", "travel_m", "force_rms",
-                                    "mean_power");
+    result.sweep_rows =
+        fmt::format("{:>10} {:>12} {:>8} {:>8} {:>10} {:>10} {:>11}\n", "gain", "seat_w_rms",
+                    "SEAT", "T_ax", "travel_m", "force_rms", "mean_power");
     for (const double gain : gains) {
       setup.gain_ns_per_m = gain;
       ClosedLoopTrace trace;
       const ControlFigures f = run(trace);
       rows.push_back(f);
-      for (const double value :
-           {gain, f.seat_weighted_rms, f.seat_ratio, f.transmissibility, f.vdv, f.travel_m,
-            f.force_rms_n, f.force_peak_n, f.mean_power_w}) {
+      for (const double value : {gain, f.seat_weighted_rms, f.seat_ratio, f.transmissibility, f.vdv,
+                                 f.travel_m, f.force_rms_n, f.force_peak_n, f.mean_power_w}) {
         writer.number(value);
         writer.separator();
       }
       writer.number(f.seat_weighted_rms / passive.seat_weighted_rms);
       writer.end_row();
       result.sweep_rows +=
-          fmt::format("{:>10.1f} {:>12.5f} {:>8.4f} {:>8.4f} {:>10.5f} {:>10.2f} {:>11.3f}\n",
-                      gain, f.seat_weighted_rms, f.seat_ratio, f.transmissibility, f.travel_m,
+          fmt::format("{:>10.1f} {:>12.5f} {:>8.4f} {:>8.4f} {:>10.5f} {:>10.2f} {:>11.3f}\n", gain,
+                      f.seat_weighted_rms, f.seat_ratio, f.transmissibility, f.travel_m,
                       f.force_rms_n, f.mean_power_w);
     }
     writer.flush();
@@ -489,8 +487,7 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
     json["gain_low"] = request.sweep.low_ns_per_m;
     json["gain_high"] = request.sweep.high_ns_per_m;
     if (!request.plot_path.empty()) {
-      write_pareto_plot(gains, rows, passive, controller_name(setup.controller),
-                        request.plot_path);
+      write_pareto_plot(gains, rows, passive, controller_name(setup.controller), request.plot_path);
       json["plot"] = request.plot_path;
     }
   }

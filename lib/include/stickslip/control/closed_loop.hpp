@@ -62,7 +62,7 @@ struct LoopSample {
   StepOutput<T> plant;  // the plant's step into this sample
   T applied_force_n;    // the force held over that step (computed at the previous sample)
   SensorSample<T> sensed;
-  T command_n;    // the controller's command at this sample (before the actuator)
+  T command_n;     // the controller's command at this sample (before the actuator)
   T next_force_n;  // the actuator's force held over the next step
 };
 
@@ -147,8 +147,8 @@ class ClosedLoop {
     LoopSample<T> sample;
     sample.applied_force_n = actuator_.force_n();
     sample.plant = plant.step(a_u, sample.applied_force_n);
-    const T a_x_measured =
-        quantise(sample.plant.a_x_m_per_s2 + a_x_noise_m_per_s2, a_x_quantum_, a_x_inverse_quantum_);
+    const T a_x_measured = quantise(sample.plant.a_x_m_per_s2 + a_x_noise_m_per_s2, a_x_quantum_,
+                                    a_x_inverse_quantum_);
     const T x_r_measured =
         quantise(sample.plant.x_r_m + x_r_noise_m, x_r_quantum_, x_r_inverse_quantum_);
     T v_r = sample.plant.v_r_m_per_s, friction = sample.plant.friction_n;

@@ -31,12 +31,12 @@ std::vector<std::string> controller_names();
 struct ClosedLoopSetup {
   SimulationSetup plant;  // the seat and its scene; dt_s from the recording
   ControllerChoice controller = ControllerChoice::passive;
-  double gain_ns_per_m = 1500.0;          // the hook's c
-  double min_damping_ns_per_m = 0.0;      // semi-active b_min
-  double max_damping_ns_per_m = 3000.0;   // semi-active b_max
-  double friction_compensation = 0.0;     // fraction fed forward (friction-compensation: 0.8)
-  double force_limit_n = 1000.0;          // actuator
-  double actuator_lag_s = 0.0;            // actuator's first-order lag
+  double gain_ns_per_m = 1500.0;         // the hook's c
+  double min_damping_ns_per_m = 0.0;     // semi-active b_min
+  double max_damping_ns_per_m = 3000.0;  // semi-active b_max
+  double friction_compensation = 0.0;    // fraction fed forward (friction-compensation: 0.8)
+  double force_limit_n = 1000.0;         // actuator
+  double actuator_lag_s = 0.0;           // actuator's first-order lag
   ObserverKind observer = ObserverKind::estimator;
   // Sensors: white Gaussian noise (RMS per sample) and resolution of a_x and x_r.
   double a_x_noise_m_per_s2 = 0.0, x_r_noise_m = 0.0;
@@ -53,8 +53,8 @@ ClosedLoopParams closed_loop_params(const ClosedLoopSetup& setup, double dt_s);
 // (f_a[0] = 0) and what the controller read and commanded at that sample.
 struct ClosedLoopTrace {
   SimulationTrace<double> plant;
-  std::vector<double> f_a_n;           // force over the step ending at sample n
-  std::vector<double> command_n;       // controller's command at sample n (before the actuator)
+  std::vector<double> f_a_n;               // force over the step ending at sample n
+  std::vector<double> command_n;           // controller's command at sample n (before the actuator)
   std::vector<double> sensed_v_r_m_per_s;  // the v_r the controller read at sample n
 };
 
@@ -64,9 +64,9 @@ struct ControlFigures {
   double transmissibility = 0.0;   // T_ax = RMS(a_x)/RMS(a_u), as simulate's
   double stick_probability = 0.0;  // p
   double seat_weighted_rms = 0.0, floor_weighted_rms = 0.0;  // ISO 2631-1 Wk, m/s^2
-  double seat_ratio = 0.0;         // SEAT = seat_weighted_rms / floor_weighted_rms
-  double vdv = 0.0;                // m/s^1.75
-  double travel_m = 0.0;           // peak |x_r|
+  double seat_ratio = 0.0;  // SEAT = seat_weighted_rms / floor_weighted_rms
+  double vdv = 0.0;         // m/s^1.75
+  double travel_m = 0.0;    // peak |x_r|
   double force_rms_n = 0.0, force_peak_n = 0.0;
   // Mean power of the actuator into the seat's relative motion, sum f_a[n] (x_r[n] - x_r[n-1])
   // over the run's duration: exact for the force held over each step. Positive: the actuator

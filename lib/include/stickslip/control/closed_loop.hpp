@@ -11,7 +11,8 @@
 //      (round to nearest; 0 = no quantisation). The noise comes in as an argument because lib/
 //      has no random source: the host draws it from a seeded generator, an ECU has real sensors.
 //   3. observer: the state estimator (observer/state_estimator.hpp) corrected by the measured a_x
-//      and x_r gives v_r and the friction estimate; with ObserverKind::ideal the controller reads
+//      and x_r, and told the force that acted (as a shift of its input), gives v_r and the
+//      friction estimate; with ObserverKind::ideal the controller reads
 //      the plant's own v_r and F_f instead (perfect sensing: the bound of what an observer gives).
 //   4. controller: passive (0), skyhook/groundhook, active or semi-active (hook_damping.hpp), or
 //      the user's function (user_controller.hpp); plus an optional friction feed-forward
@@ -111,6 +112,7 @@ class ClosedLoop {
       estimator.dt_s = p.dt_s;
       r = estimator_.configure(estimator);
       if (!r.ok()) return r;
+      inverse_mass_ = S::from_double(1.0 / estimator.mass_kg);  // mass_kg > 0: checked above
     }
     controller_ = p.controller;
     observer_ = p.observer;
@@ -153,7 +155,15 @@ class ClosedLoop {
         quantise(sample.plant.x_r_m + x_r_noise_m, x_r_quantum_, x_r_inverse_quantum_);
     T v_r = sample.plant.v_r_m_per_s, friction = sample.plant.friction_n;
     if (observer_ == ObserverKind::estimator) {
-      const StateEstimate<T>& estimate = estimator_.step(a_u, a_x_measured, x_r_measured);
+      // The estimator's model has no actuator input, but a force held over the step is a shift
+      // of the input, a_u -> a_u - f/m (as in the core), and of the absolute acceleration the
+      // model predicts, a_x -> a_x - f/m; the relative acceleration a_x - a_u is unchanged. Fed
+      // so, the estimator's friction is the seat's F_f, not F_f - f_a (which would make a
+      // friction feed-forward chase its own force). (The estimator holds its input first-order
+      // between samples; the force steps at them: an approximation where the force changes.)
+      const T shift = sample.applied_force_n * inverse_mass_;
+      const StateEstimate<T>& estimate =
+          estimator_.step(a_u - shift, a_x_measured - shift, x_r_measured);
       v_r = estimate.v_r_m_per_s;
       friction = estimate.friction_n;
     }
@@ -189,6 +199,7 @@ class ClosedLoop {
   AbsoluteVelocity<T> seat_velocity_, floor_velocity_;
   StateEstimator<T> estimator_;
   T a_x_quantum_{}, a_x_inverse_quantum_{}, x_r_quantum_{}, x_r_inverse_quantum_{};
+  T inverse_mass_{};
 };
 
 }  // namespace stickslip

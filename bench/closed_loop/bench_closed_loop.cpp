@@ -136,13 +136,11 @@ void float_loop(benchmark::State& state, LoopController c, ObserverKind o) {
 BENCHMARK_CAPTURE(double_loop, skyhook_semi_estimator, LoopController::hook,
                   ObserverKind::estimator)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(float_loop, skyhook_semi_estimator, LoopController::hook,
-                  ObserverKind::estimator)
+BENCHMARK_CAPTURE(float_loop, skyhook_semi_estimator, LoopController::hook, ObserverKind::estimator)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(double_loop, skyhook_semi_ideal, LoopController::hook, ObserverKind::ideal)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(double_loop, passive_estimator, LoopController::passive,
-                  ObserverKind::estimator)
+BENCHMARK_CAPTURE(double_loop, passive_estimator, LoopController::passive, ObserverKind::estimator)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(plant, double)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(plant, float)->Unit(benchmark::kMillisecond);

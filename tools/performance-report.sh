@@ -2,7 +2,8 @@
 # Writes docs/PERFORMANCE.md, docs/performance/results.csv and docs/img/pareto-*.png from scratch:
 # installs what the report needs, builds the release preset, counts instructions per sample under
 # callgrind, runs the speed/accuracy harness with its Boost.Odeint peers, profiles the headline
-# configuration, runs the step benchmark if it is built, writes the report and draws the plots.
+# configuration, runs the step benchmark if it is built, writes the report and draws the plots;
+# tools/closed-loop-cost-report.sh then appends the closed loop's cost per sample.
 #   tools/performance-report.sh        (about 5 minutes on 2 cores; nothing to edit by hand after)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -95,6 +96,9 @@ stage "report and plots"
   --batch-profile "$work/batch-profile" --bench-step-avx2-json "$work/bench_step_avx2.json" \
   --output docs/PERFORMANCE.md --plot-dir "$work/plot" --image-link img \
   --command "tools/performance-report.sh" --elapsed "$(($(date +%s) - started))"
+
+stage "closed-loop cost per sample (stickslip_bench_closed_loop), appended to the report"
+bash tools/closed-loop-cost-report.sh "$build"
 
 rm -f docs/img/pareto-*.png
 (cd "$work/plot" && gnuplot -e "outdir='$root/docs/img'" pareto.gp)

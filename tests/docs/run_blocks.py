@@ -34,7 +34,8 @@ Second mode, `json-keys`: runs `stickslip simulate` in several configurations an
 replay` on the loopback bus and compares the keys of their JSON lines with the key table of
 sim_host/README.md (the table after `<!-- docs-test: json-keys -->`), and the keys `ecu` sets
 (read from its JSON writer: ecu needs a CAN interface) with the table after
-`<!-- docs-test: json-keys ecu -->`. Third mode, `choices`:
+`<!-- docs-test: json-keys ecu -->`, and the keys of `stickslip closed-loop` (a single run and a
+`--sweep-gain` run) with the table after `<!-- docs-test: json-keys closed-loop -->`. Third mode, `choices`:
 the --integrator and --scalar choices of simulate, replay and ecu in sim_host/README.md's
 synopsis against those each command's --help offers.
 """
@@ -514,10 +515,47 @@ def run_json_keys(args):
         failures.append("keys in sim_host/README.md's table that no run printed: " +
                         ", ".join(missing))
     failures += check_ecu_keys(os.path.abspath(args.source))
+    failures += check_closed_loop_keys(os.path.abspath(args.source), run)
     for failure in failures:
         print(f"FAILED: {failure}")
     print(f"documented keys: {len(documented)}, printed keys: {len(seen)}")
     return 1 if failures else 0
+
+
+def check_closed_loop_keys(source, run):
+    """`closed-loop`'s JSON line (a single run and a gain sweep) against the table after
+    `<!-- docs-test: json-keys closed-loop -->`."""
+    documented = documented_keys(source, ("closed-loop",))
+    base = ["closed-loop", "--input", "in.csv", "--model", "stick-slip", "--ffk", "45"]
+    runs = {
+        "closed-loop skyhook-semi": [*base, "--output", "loop.csv", "--controller",
+                                     "skyhook-semi"],
+        "closed-loop --sweep-gain": [*base, "--output", "sweep.csv", "--controller", "skyhook",
+                                     "--sweep-gain", "0:2000:3", "--plot", "pareto.png"],
+    }
+    seen = {}
+    failures = []
+    for name, command in runs.items():
+        data = last_json_line(run(*command))
+        if data is None:
+            failures.append(f"{name}: no JSON line on stdout")
+            continue
+        keys = flatten(data)
+        for key in keys:
+            seen.setdefault(key, []).append(name)
+        absent = sorted(k for k, when in documented.items() if when == "always" and k not in keys)
+        if absent:
+            failures.append(f"{name}: keys documented as 'always' are missing: {', '.join(absent)}")
+        print(f"{name}: {len(keys)} keys")
+    extra = sorted(set(seen) - set(documented))
+    missing = sorted(set(documented) - set(seen))
+    if extra:
+        failures.append("closed-loop keys printed but not in sim_host/README.md's closed-loop "
+                        "table: " + ", ".join(f"{k} ({seen[k][0]})" for k in extra))
+    if missing:
+        failures.append("keys in sim_host/README.md's closed-loop table that no run printed: " +
+                        ", ".join(missing))
+    return failures
 
 
 def check_ecu_keys(source):

@@ -82,6 +82,11 @@ const struct Subcommand {
      "Identify the seat (k, b, F_fk, F_fs, ...) from a rig recording t,a_u,a_x[,x_r] by least "
      "squares on the exact simulation; estimates with 95 % intervals, JSON line last",
      make_fit_command},
+    {"closed-loop",
+     "The seat with an actuator and a controller (skyhook, groundhook, active or semi-active) over "
+     "a recording: the trace plus f_a, and passive vs controlled comfort and effort as a JSON "
+     "line; --sweep-gain for the Pareto of comfort against effort",
+     make_closed_loop_command},
 };
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {

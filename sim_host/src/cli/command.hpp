@@ -86,5 +86,6 @@ std::unique_ptr<Command> make_harmonic_balance_command();
 std::unique_ptr<Command> make_advise_command();
 std::unique_ptr<Command> make_inspect_command();
 std::unique_ptr<Command> make_fit_command();
+std::unique_ptr<Command> make_closed_loop_command();
 
 }  // namespace stickslip::host

@@ -39,6 +39,7 @@ class Actuator {
     const double alpha =
         p.lag_time_constant_s == 0.0 ? 1.0 : -std::expm1(-p.dt_s / p.lag_time_constant_s);
     alpha_ = S::from_double(alpha);
+    ideal_ = p.lag_time_constant_s == 0.0;
     reset();
     return {};
   }
@@ -49,7 +50,8 @@ class Actuator {
     if (!S::is_finite(command_n)) command_n = T(0);
     const T target =
         command_n > limit_n_ ? limit_n_ : (command_n < -limit_n_ ? -limit_n_ : command_n);
-    force_n_ = force_n_ + alpha_ * (target - force_n_);
+    // Ideal: the clamped command itself (f + (u - f) need not round back to u).
+    force_n_ = ideal_ ? target : force_n_ + alpha_ * (target - force_n_);
     return force_n_;
   }
   T force_n() const noexcept { return force_n_; }
@@ -58,6 +60,7 @@ class Actuator {
  private:
   T limit_n_{}, alpha_{};
   T force_n_{};
+  bool ideal_ = true;
 };
 
 }  // namespace stickslip

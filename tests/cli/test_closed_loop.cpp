@@ -1,0 +1,183 @@
+// stickslip closed-loop against independent computations: the passive loop against simulate (bit
+// for bit), the controlled loop's own force fed back into simulate's f_a column (bit for bit: the
+// loop's plant is the exact core, the force held over the step after it was computed), the sweep's
+// endpoints against single runs, and the refusals.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/cli_run.hpp"
+#include "support/host_test_support.hpp"
+
+// CppUTest last: its leak detector redefines new.
+#include "CppUTest/TestHarness.h"
+
+using namespace stickslip;
+
+namespace {
+
+nlohmann::json last_json(const std::string& out) {
+  return nlohmann::json::parse(test::split_lines(out).back());
+}
+
+// A 20 s lorry-like floor: long enough for many stick-slip cycles, short for the test.
+std::string lorry(const test::TempDir& dir) {
+  const std::string input = dir.file("lorry.csv");
+  const test::CliRun run =
+      test::run_stickslip({"generate", "--kind", "lorry", "--rms", "0.6", "--duration", "20",
+                           "--dt", "0.001", "--seed", "3", "--output", input});
+  CHECK_EQUAL(0, run.status);
+  return input;
+}
+
+const std::vector<std::string> kSeat = {"--model", "stick-slip", "--ffk", "40", "--ffs", "55"};
+
+std::vector<std::string> with(std::vector<std::string> head, const std::vector<std::string>& tail) {
+  head.insert(head.end(), tail.begin(), tail.end());
+  return head;
+}
+
+}  // namespace
+
+TEST_GROUP(ClosedLoopCommand){};
+
+TEST(ClosedLoopCommand, PassiveControllerEqualsSimulateBitForBit) {
+  test::TempDir dir;
+  const std::string input = lorry(dir);
+  const test::CliRun simulate = test::run_stickslip(
+      with({"simulate", "--input", input, "--output", dir.file("sim.csv"), "--repetitions", "1"},
+           kSeat));
+  CHECK_EQUAL(0, simulate.status);
+  const test::CliRun loop = test::run_stickslip(
+      with({"closed-loop", "--input", input, "--output", dir.file("loop.csv"), "--controller",
+            "passive", "--a-x-noise", "0.02", "--x-r-noise", "1e-4"},
+           kSeat));
+  CHECK_EQUAL(0, loop.status);
+  const test::Table sim = test::read_table(dir.file("sim.csv"));
+  const test::Table closed = test::read_table(dir.file("loop.csv"));
+  CHECK_TRUE(sim.ok && closed.ok);
+  CHECK_EQUAL(sim.rows.size(), closed.rows.size());
+  CHECK_EQUAL(8u, closed.header.size());
+  STRCMP_EQUAL("f_a", closed.header[7].c_str());
+  for (std::size_t n = 0; n < sim.rows.size(); ++n) {
+    for (std::size_t c = 0; c < 7; ++c)
+      CHECK_TRUE(test::bit_equal(sim.rows[n][c], closed.rows[n][c]));
+    CHECK_TRUE(test::bit_equal(0.0, closed.rows[n][7]));
+  }
+  const nlohmann::json s = last_json(simulate.out), l = last_json(loop.out);
+  for (const auto* run : {"passive", "controlled"}) {
+    const nlohmann::json& f = l[run];
+    // The same double, not merely close: the same loop and the same statistics.
+    CHECK_TRUE(test::bit_equal(s["T_ax"].get<double>(), f["T_ax"].get<double>()));
+    CHECK_TRUE(test::bit_equal(s["p_stick"].get<double>(), f["p_stick"].get<double>()));
+    CHECK_TRUE(test::bit_equal(s["seat_weighted_rms"].get<double>(),
+                               f["seat_weighted_rms"].get<double>()));
+    CHECK_TRUE(test::bit_equal(s["floor_weighted_rms"].get<double>(),
+                               f["floor_weighted_rms"].get<double>()));
+    CHECK_TRUE(test::bit_equal(s["seat"].get<double>(), f["seat"].get<double>()));
+    CHECK_TRUE(test::bit_equal(s["vdv"].get<double>(), f["vdv"].get<double>()));
+  }
+  CHECK_TRUE(test::bit_equal(0.0, l["controlled"]["force_rms"].get<double>()));
+  CHECK_TRUE(test::bit_equal(0.0, l["controlled"]["mean_power"].get<double>()));
+  CHECK_TRUE(test::bit_equal(1.0, l["seat_weighted_rms_ratio"].get<double>()));
+}
+
+// The loop's trace carries the force that acted over each step; simulate with that f_a column is
+// the plant alone, run by simulate's own loop. Equal a_x, x_r and v_r histories prove that the
+// loop steps the exact core with the force held over the step after the sample that computed it.
+TEST(ClosedLoopCommand, LoopForceFedBackIntoSimulateGivesTheSameSeatBitForBit) {
+  test::TempDir dir;
+  const std::string input = lorry(dir);
+  const std::vector<std::vector<std::string>> controllers = {
+      {"--controller", "skyhook-semi", "--gain", "2000", "--a-x-noise", "0.02", "--x-r-noise",
+       "3e-5", "--x-r-resolution", "1e-4"},
+      {"--controller", "skyhook", "--gain", "1500", "--actuator-lag", "0.005", "--force-limit",
+       "150"},
+      {"--controller", "groundhook-semi", "--observer", "ideal"},
+      {"--controller", "friction-compensation"}};
+  for (const auto& controller : controllers) {
+    const test::CliRun loop = test::run_stickslip(
+        with(with({"closed-loop", "--input", input, "--output", dir.file("loop.csv")}, kSeat),
+             controller));
+    CHECK_EQUAL(0, loop.status);
+    const nlohmann::json l = last_json(loop.out);
+    CHECK_TRUE(l["controlled"]["force_rms"].get<double>() > 1.0);  // the force did act
+    const test::CliRun simulate =
+        test::run_stickslip(with({"simulate", "--input", dir.file("loop.csv"), "--output",
+                                  dir.file("sim.csv"), "--repetitions", "1"},
+                                 kSeat));
+    CHECK_EQUAL(0, simulate.status);
+    const test::Table closed = test::read_table(dir.file("loop.csv"));
+    const test::Table sim = test::read_table(dir.file("sim.csv"));
+    CHECK_EQUAL(closed.rows.size(), sim.rows.size());
+    std::size_t differing = 0;
+    for (std::size_t n = 0; n < sim.rows.size(); ++n)
+      for (std::size_t c = 2; c < 7; ++c)  // x_r, v_r, a_x, f_f, stuck
+        if (!test::bit_equal(sim.rows[n][c], closed.rows[n][c])) ++differing;
+    CHECK_EQUAL(0u, differing);
+    const nlohmann::json s = last_json(simulate.out);
+    CHECK_TRUE(test::bit_equal(s["T_ax"].get<double>(), l["controlled"]["T_ax"].get<double>()));
+    CHECK_TRUE(test::bit_equal(s["seat_weighted_rms"].get<double>(),
+                               l["controlled"]["seat_weighted_rms"].get<double>()));
+  }
+}
+
+TEST(ClosedLoopCommand, SweepEndpointsEqualSingleRunsAtThoseGains) {
+  test::TempDir dir;
+  const std::string input = lorry(dir);
+  const std::vector<std::string> base =
+      with({"closed-loop", "--input", input, "--controller", "skyhook-semi", "--a-x-noise", "0.02"},
+           kSeat);
+  const test::CliRun sweep = test::run_stickslip(
+      with(base, {"--output", dir.file("sweep.csv"), "--sweep-gain", "500:2500:3"}));
+  CHECK_EQUAL(0, sweep.status);
+  const test::Table rows = test::read_table(dir.file("sweep.csv"));
+  CHECK_TRUE(rows.ok);
+  CHECK_EQUAL(3u, rows.rows.size());
+  const char* keys[] = {"seat_weighted_rms", "seat",       "T_ax",      "vdv", "travel",
+                        "force_rms",         "force_peak", "mean_power"};
+  for (const std::size_t row : {std::size_t{0}, std::size_t{2}}) {
+    const std::string gain = row == 0 ? "500" : "2500";
+    const test::CliRun single =
+        test::run_stickslip(with(base, {"--output", dir.file("one.csv"), "--gain", gain}));
+    CHECK_EQUAL(0, single.status);
+    const nlohmann::json f = last_json(single.out)["controlled"];
+    CHECK_TRUE(test::bit_equal(std::stod(gain), rows.rows[row][0]));
+    for (std::size_t k = 0; k < 8; ++k)
+      CHECK_TRUE(test::bit_equal(f[keys[k]].get<double>(), rows.rows[row][k + 1]));
+  }
+  // More damping in the sky: a different point, not a copy of the first.
+  CHECK_TRUE(rows.rows[2][6] > rows.rows[0][6]);
+}
+
+TEST(ClosedLoopCommand, RefusesEndStopsAndAnUnknownControllerWithExit2) {
+  test::TempDir dir;
+  const std::string input = lorry(dir);
+  const test::CliRun stops = test::run_stickslip(
+      {"closed-loop", "--input", input, "--output", dir.file("loop.csv"), "--scene",
+       std::string(STICKSLIP_SOURCE_DIR) + "/docs/scenes/seat-with-end-stops.toml"});
+  CHECK_EQUAL(2, stops.status);
+  CHECK_TRUE(stops.err.find("end stops") != std::string::npos);
+  CHECK_FALSE(test::exists(dir.file("loop.csv")));
+  const test::CliRun unknown = test::run_stickslip(with(
+      {"closed-loop", "--input", input, "--output", dir.file("loop.csv"), "--controller", "skyhok"},
+      kSeat));
+  CHECK_EQUAL(2, unknown.status);
+  CHECK_TRUE(unknown.err.find("did you mean skyhook") != std::string::npos);
+  const test::CliRun sweep_passive =
+      test::run_stickslip(with({"closed-loop", "--input", input, "--output", dir.file("loop.csv"),
+                                "--sweep-gain", "0:100:3"},
+                               kSeat));
+  CHECK_EQUAL(2, sweep_passive.status);
+  CHECK_TRUE(sweep_passive.err.find("--sweep-gain") != std::string::npos);
+  CHECK_FALSE(test::exists(dir.file("loop.csv")));
+  // A recording that already carries a force: the loop computes its own, so it is refused.
+  test::write_text(dir.file("forced.csv"), "t,a_u,f_a\n0,0,0\n0.001,0.1,1\n0.002,0.2,2\n");
+  const test::CliRun with_force = test::run_stickslip(with(
+      {"closed-loop", "--input", dir.file("forced.csv"), "--output", dir.file("loop.csv")}, kSeat));
+  CHECK_EQUAL(2, with_force.status);
+  CHECK_TRUE(with_force.err.find("column 'f_a'") != std::string::npos);
+  CHECK_FALSE(test::exists(dir.file("loop.csv")));
+}

@@ -12,6 +12,8 @@ packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev lib
           libtomlplusplus-dev libmatio-dev pkg-config parallel
           # Ceres Solver: the least squares of `stickslip fit` (run/fit_solver.cpp).
           libceres-dev
+          # gnuplot: the PNGs of `fit --plot` and `closed-loop --plot` (their tests draw them).
+          gnuplot-nox
           gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   # clang-format (version 14 in Debian 12): tools/format.sh and the CTest test format.check.
   clang-format

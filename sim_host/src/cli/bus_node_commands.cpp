@@ -153,6 +153,9 @@ class EcuCommand : public Command {
         "--sample-index", request_.sample_index_path,
         "write n,sample,held per row: the sender's sample number of each row, 1 if held");
     node_.add_to(ecu, request_.checker);
+    ecu.add_flag("--estimator", request_.estimator,
+                 "run the state estimator on SeatInput + SeatSensors (measured a_x, x_r) and "
+                 "publish SeatEstimate, SeatEstimateForce, FrictionEstimate (docs/CAN.md)");
     ecu.add_flag("--progress", progress_,
                  "frames taken on stderr once a second (default: on a terminal)");
     model_.add_to(ecu, request_.setup, kNodeSceneHelp);
@@ -184,6 +187,7 @@ class EcuCommand : public Command {
     request.progress = bus_progress(progress);
     const EcuResult result = run_ecu(request);
     out << fault_counters_text(result.faults) << "\n";
+    if (!result.estimator_limits.empty()) out << "estimator: " << result.estimator_limits << "\n";
     out << result.json << "\n";
     return kExitOk;
   }

@@ -142,7 +142,8 @@ struct EcuRequest {
   unsigned output_every = 1;      // the node's output cycle (EcuNodeConfig)
   OutputSet outputs = OutputSet::full;
   can::CheckerConfig checker;
-  int poll_ms = 20;  // receive timeout between checks of `stop`
+  bool estimator = false;  // run the state estimator on SeatSensors (EcuNodeConfig::estimator)
+  int poll_ms = 20;        // receive timeout between checks of `stop`
   // SocketCAN SO_RCVBUF in bytes (0: the kernel's default; the kernel doubles it, up to twice
   // net.core.rmem_max): room for a node that falls behind a fast stream (receive_drops).
   int receive_buffer_bytes = 0;
@@ -160,6 +161,8 @@ struct EcuResult {
   std::uint64_t bus_down = 0;              // times the interface went down (or away) under the node
   std::uint64_t left_after_stop = 0;  // 1: the frame that ended the drain after a stop (unused)
   std::string json;                   // one line
+  // --estimator: what the estimator could not estimate on this run (empty: nothing missing).
+  std::string estimator_limits;
 };
 
 // The node on a bus until stopped. The interface going down (ENETDOWN) does not end the run:

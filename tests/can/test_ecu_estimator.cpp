@@ -96,10 +96,9 @@ void exchange(port::Transport& tester, const can::Frame* sensors, const can::Fra
 std::unique_ptr<port::Transport> estimate_listener() {
   auto tester = port::make_loopback_transport();
   CHECK(tester->open("loopback") == port::TransportStatus::ok);
-  static const port::ReceiveFilter filters[] = {
-      {can::kSeatEstimate.id, can::kStandardIdMask},
-      {can::kSeatEstimateForce.id, can::kStandardIdMask},
-      {can::kFrictionEstimate.id, can::kStandardIdMask}};
+  static const port::ReceiveFilter filters[] = {{can::kSeatEstimate.id, can::kStandardIdMask},
+                                                {can::kSeatEstimateForce.id, can::kStandardIdMask},
+                                                {can::kFrictionEstimate.id, can::kStandardIdMask}};
   tester->set_filters(filters, 3);
   return tester;
 }
@@ -130,10 +129,11 @@ TEST(EcuEstimator, PublishedEstimatesOfAReferenceRigRunEqualTheInProcessEstimato
   LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "lorry", "--rms", "1", "--duration", "30",
                                 "--dt", "0.001", "--seed", "7", "--output", floor})
                      .status);
-  LONGS_EQUAL(0, run_stickslip({"simulate", "--input", floor, "--output", rig, "--model",
-                                "stick-slip", "--integrator", "reference", "--mass", "88.4",
-                                "--stiffness", "11500", "--damping", "504", "--ffk", "60", "--ffs",
-                                "70", "--repetitions", "1"})
+  LONGS_EQUAL(0, run_stickslip(
+                     {"simulate",   "--input",       floor,       "--output", rig,    "--model",
+                      "stick-slip", "--integrator",  "reference", "--mass",   "88.4", "--stiffness",
+                      "11500",      "--damping",     "504",       "--ffk",    "60",   "--ffs",
+                      "70",         "--repetitions", "1"})
                      .status);
   const std::vector<RigSample> truth = read_rig(rig);
   LONGS_EQUAL(30001, truth.size());
@@ -198,12 +198,12 @@ TEST(EcuEstimator, PublishedEstimatesOfAReferenceRigRunEqualTheInProcessEstimato
       const bool static_ready = static_cast<double>(e.breakaways) >= static_needed;
       kinetic_published += kinetic_ready;
       static_published += static_ready;
-      mismatches += friction.words[0] != (kinetic_ready
-                                              ? word(can::kFrictionEstimate, e.kinetic_friction_n)
+      mismatches +=
+          friction.words[0] != (kinetic_ready ? word(can::kFrictionEstimate, e.kinetic_friction_n)
                                               : can::kUnsignedNotAvailable);
-      mismatches += friction.words[1] != (static_ready
-                                              ? word1(can::kFrictionEstimate, e.static_friction_n)
-                                              : can::kUnsignedNotAvailable);
+      mismatches +=
+          friction.words[1] != (static_ready ? word1(can::kFrictionEstimate, e.static_friction_n)
+                                             : can::kUnsignedNotAvailable);
     }
   }
   LONGS_EQUAL(0, mismatches);

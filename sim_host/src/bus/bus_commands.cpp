@@ -13,6 +13,7 @@
 #include "bus_endpoint.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/output_file.hpp"
+#include "stickslip/host/io/rig_recording.hpp"
 #include "stickslip/host/io/trace_csv.hpp"
 #include "stickslip/host/run/stats_json.hpp"
 
@@ -178,8 +179,10 @@ ReplayResult replay_file(const ReplayRequest& request) {
   if (request.output_path.empty()) throw UsageError("--output: required");
   if (request.setup.reference) throw UsageError("--integrator reference: not available for replay");
   const BusRecording recording =
-      read_bus_recording(request.input_path, request.log_dt_s, request.recording,
-                         request.log_dt_given, !request.retime);
+      request.estimator
+          ? frames_from_rig(request.input_path)
+          : read_bus_recording(request.input_path, request.log_dt_s, request.recording,
+                               request.log_dt_given, !request.retime);
   SimulationSetup setup = request.setup;
   setup.params.dt_s = recording.dt_s;
 
@@ -188,12 +191,12 @@ ReplayResult replay_file(const ReplayRequest& request) {
   result.recording_note = recording.recording_note;
   result.input_saturated = recording.saturated;
   EcuNode node(node_config(setup, request.scalar, request.checker, true, request.output_every,
-                           request.outputs));  // may throw: first
+                           request.outputs, request.estimator));  // may throw: first
 
   std::unique_ptr<port::Transport> sender = open_bus(request.bus, "--bus");
   std::unique_ptr<port::Transport> node_port = open_bus(request.bus, "--bus");
-  // The sender listens to the node's outputs only (0x180..0x183).
-  const port::ReceiveFilter outputs_only{can::kSeatMotion.id, can::kStandardIdMask & ~0x3u};
+  // The sender listens to the node's outputs only (0x180..0x187).
+  const port::ReceiveFilter outputs_only{can::kSeatMotion.id, can::kStandardIdMask & ~0x7u};
   sender->set_filters(&outputs_only, 1);
 
   const bool log_bus = !request.output_log_path.empty();
@@ -253,6 +256,8 @@ ReplayResult replay_file(const ReplayRequest& request) {
                                                      request.output_path}),
       request, recording, result.bus_load, node.samples(), result.faults, result.node,
       result.sender);
+  if (node.estimator())
+    result.estimator_limits = estimator_limits(node.estimator_report().sensors, node.samples());
   return result;
 }
 

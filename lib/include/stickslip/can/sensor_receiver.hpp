@@ -28,11 +28,11 @@ enum class SensorVerdict : std::uint8_t {
 };
 
 struct SensorCounters {
-  std::uint64_t frames = 0;    // SeatSensors frames checked
-  std::uint64_t accepted = 0;  // passed the checks
-  std::uint64_t refused = 0;   // wrong_length + bad_crc + duplicate + alive_mismatch
-  std::uint64_t used = 0;      // taken by the SeatInput sample of the same counter
-  std::uint64_t unused = 0;    // accepted but overtaken before (or arrived after) their sample
+  std::uint64_t frames = 0;       // SeatSensors frames checked
+  std::uint64_t accepted = 0;     // passed the checks
+  std::uint64_t refused = 0;      // wrong_length + bad_crc + duplicate + alive_mismatch
+  std::uint64_t used = 0;         // taken by the SeatInput sample of the same counter
+  std::uint64_t unused = 0;       // accepted but overtaken before (or arrived after) their sample
   std::uint64_t saturated = 0;    // accepted frames whose sender clipped a signal
   std::uint64_t with_a_x = 0;     // used samples that carried a_x (not "not available")
   std::uint64_t with_travel = 0;  // used samples that carried x_r

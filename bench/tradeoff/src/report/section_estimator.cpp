@@ -68,7 +68,9 @@ void section_estimator(std::ostream& md, const std::string& bench_json) {
   }
   const std::string context = run_context(bench_json);
   md << "`stickslip_bench_state_estimator` (Google Benchmark, bench/estimator/"
-     << (context.empty() ? "" : "; " + context) << ") as this report ran it: the state estimator (`observer/state_estimator.hpp`) on its validation scenario "
+     << (context.empty() ? "" : "; " + context)
+     << ") as this report ran it: the state estimator (`observer/state_estimator.hpp`) on its "
+        "validation scenario "
         "(floor RMS 0.6 m/s^2, seed 1, 100 s at 1 kHz, stuck about 71 % of the time), and in the "
         "same run the plain step of the model it corrects (`Oscillator`, stick-slip, exact "
         "integrator, F_fk = 60 N, F_fs = 70 N) on the same floor signal. Median of the "
@@ -78,8 +80,8 @@ void section_estimator(std::ostream& md, const std::string& bench_json) {
     return fmt::format("{} ns ({})", ns(value), times(value / plain));
   };
   Table table{{"", "double", "float"}, {}};
-  table.rows.push_back({"plain step (`Oscillator::step`)", ns(plain_double) + " ns",
-                        ns(plain_float) + " ns"});
+  table.rows.push_back(
+      {"plain step (`Oscillator::step`)", ns(plain_double) + " ns", ns(plain_float) + " ns"});
   table.rows.push_back({"estimator, a_x + travel",
                         cell(find("double_stream/ax_and_travel"), plain_double),
                         cell(find("float_stream/ax_and_travel"), plain_float)});

@@ -77,6 +77,14 @@ if [ -x "$bench_step" ]; then
   fi
 fi
 
+bench_estimator="$build/bench/estimator/stickslip_bench_state_estimator"
+if [ -x "$bench_estimator" ]; then
+  stage "state estimator benchmark: cost per sample against the plain step in the same run"
+  "$bench_estimator" --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+    --benchmark_out="$work/bench_estimator.json" --benchmark_out_format=json \
+    >"$work/bench_estimator.txt" 2>&1 || echo "(stickslip_bench_state_estimator exited with status $?)" >&2
+fi
+
 {
   echo "cpu: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $(grep -m1 'cpu MHz' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//') MHz as /proc/cpuinfo reports it"
   echo "cores: $(nproc)"
@@ -94,6 +102,7 @@ stage "report and plots"
   --machine "$work/machine.txt" --profile-dump "$profile_dump" \
   --bench-step "$work/bench_step.txt" --bench-step-json "$work/bench_step.json" \
   --batch-profile "$work/batch-profile" --bench-step-avx2-json "$work/bench_step_avx2.json" \
+  --bench-estimator-json "$work/bench_estimator.json" \
   --output docs/PERFORMANCE.md --plot-dir "$work/plot" --image-link img \
   --command "tools/performance-report.sh" --elapsed "$(($(date +%s) - started))"
 

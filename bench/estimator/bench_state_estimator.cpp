@@ -116,6 +116,8 @@ BENCHMARK_CAPTURE(float_stream, ax_and_travel, Sensors::acceleration_and_travel)
 BENCHMARK_CAPTURE(double_stream, ax_only, Sensors::acceleration_only)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(double_stream, travel_only, Sensors::travel_only)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(float_stream, ax_only, Sensors::acceleration_only)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(float_stream, travel_only, Sensors::travel_only)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(plain_step, double)->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(plain_step, float)->Unit(benchmark::kMillisecond);
 

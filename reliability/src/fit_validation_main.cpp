@@ -119,6 +119,8 @@ int write_rig(const char* path, const RigRecording& rig, const WriteOptions& opt
 struct Tally {
   int trials = 0, failures = 0;
   int covered[4] = {0, 0, 0, 0};
+  int covered_hac[4] = {0, 0, 0, 0};
+  double width_sum[4] = {0, 0, 0, 0}, width_hac_sum[4] = {0, 0, 0, 0};  // relative half-widths
   double worst[4] = {0, 0, 0, 0};
   double slowest_s = 0.0;
 };
@@ -145,11 +147,23 @@ void run_trial(const RigSpec& spec, Tally& tally) {
     const double error = result.value[k] / true_value[i] - 1.0;
     const bool covered = std::fabs(result.value[k] - true_value[i]) <= result.ci95[k];
     tally.covered[i] += covered ? 1 : 0;
+    const bool covered_hac = std::fabs(result.value[k] - true_value[i]) <= result.ci95_hac[k];
+    tally.covered_hac[i] += covered_hac ? 1 : 0;
+    tally.width_sum[i] += result.ci95[k] / true_value[i];
+    tally.width_hac_sum[i] += result.ci95_hac[k] / true_value[i];
     tally.worst[i] = std::max(tally.worst[i], std::fabs(error));
     ok = ok && std::fabs(error) <= kTolerance[i];
     row += fmt::format(" {:+.3f} % ({:.3f} %{}) |", 100.0 * error,
                        100.0 * result.ci95[k] / true_value[i], covered ? "" : ", missed");
   }
+  row += " HAC:";
+  for (int i = 0; i < 4; ++i) {
+    const auto k = static_cast<std::size_t>(kChecked[i]);
+    row += fmt::format(
+        " {:.3f} %{}", 100.0 * result.ci95_hac[k] / true_value[i],
+        std::fabs(result.value[k] - true_value[i]) <= result.ci95_hac[k] ? "" : " missed");
+  }
+  row += fmt::format(" (L {}, rho1 {:.3f}) |", result.hac_lag, result.residual_lag1_correlation);
   row += fmt::format(" {:.4f} | {:.4f} / {:.4f} | {} | {:.2f} / {:.2f} |{}",
                      result.rms_residual_m_per_s2, result.stick_probability_measured,
                      result.stick_probability_model, result.iterations, result.seconds, cpu_s,
@@ -176,8 +190,8 @@ int run_trials(const RigSpec& base, const std::vector<double>& ks, int trials,
                std::uint64_t first_seed, double min_coverage) {
   std::puts(
       "| K | seed | k err (CI) | b err (CI) | F_fk err (CI) | F_fs err (CI) | rms res | "
-      "p meas / model | iter | wall / CPU s |");
-  std::puts("|---|---|---|---|---|---|---|---|---|---|");
+      "HAC intervals | p meas / model | iter | wall / CPU s |");
+  std::puts("|---|---|---|---|---|---|---|---|---|---|---|");
   Tally tally;
   for (int t = 0; t < trials; ++t) {
     RigSpec spec = base;
@@ -196,6 +210,13 @@ int run_trials(const RigSpec& base, const std::vector<double>& ks, int trials,
                            tally.covered[i], tally.trials);
   }
   summary += fmt::format("; slowest fit {:.2f} s of CPU", tally.slowest_s);
+  summary += "; mean 95 % half-width classic / HAC:";
+  for (int i = 0; i < 4; ++i) {
+    summary += fmt::format(" {} {:.3f} / {:.3f} % (HAC coverage {}/{})", names[i],
+                           100.0 * tally.width_sum[i] / tally.trials,
+                           100.0 * tally.width_hac_sum[i] / tally.trials, tally.covered_hac[i],
+                           tally.trials);
+  }
   std::puts(summary.c_str());
   return tally.failures == 0 && coverage_ok ? 0 : 1;
 }

@@ -132,6 +132,8 @@ CLI::App* add_report_command(CLI::App& app, ReportRequest& report_request) {
       "callgrind profiles of batch and singles (<tag>.json + <tag>.txt per benchmark)");
   report->add_option("--bench-step-avx2-json", report_request.bench_step_avx2_json,
                      "batch vs singles of a build with -march=x86-64-v3 (--benchmark_out JSON)");
+  report->add_option("--bench-estimator-json", report_request.bench_estimator_json,
+                     "stickslip_bench_state_estimator's --benchmark_out JSON");
   report->add_option("--output", report_request.output_md, "markdown to write")->required();
   report->add_option("--plot-dir", report_request.plot_dir, "where the gnuplot data go")
       ->required();
@@ -169,6 +171,14 @@ int main(int argc, char** argv) {
   ReportRequest report_request;
   CLI::App* report = add_report_command(app, report_request);
 
+  std::string estimator_json;
+  CLI::App* estimator_section = app.add_subcommand(
+      "estimator-section",
+      "Print the report's state estimator section (as report writes it into PERFORMANCE.md) "
+      "from stickslip_bench_state_estimator's --benchmark_out JSON");
+  estimator_section->add_option("--bench-estimator-json", estimator_json, "the benchmark's JSON")
+      ->required();
+
   CLI::App* info =
       app.add_subcommand("build-info", "Print compiler, flags, build type, reference method");
 
@@ -185,6 +195,8 @@ int main(int argc, char** argv) {
       count_instructions(make_plan(count_text), std::cerr);
     } else if (*report) {
       write_report(report_request);
+    } else if (*estimator_section) {
+      write_estimator_section(std::cout, estimator_json);
     } else if (*info) {
       std::cout << "compiler: " << build_compiler() << "\nbuild type: " << build_type()
                 << "\nflags: " << build_flags() << "\nreference: " << reference_method() << "\n";

@@ -89,12 +89,19 @@ void write_report(const ReportRequest& request) {
   section_profile(md, results, profile);
   section_bench_step(md, bench_text);
   section_batch_profile(md, request, batches);
+  section_estimator(md, read_text(request.bench_estimator_json));
   section_full_results(md, request, results);
   md.close();
   if (!md) throw host::HostError(temporary + ": write failed");
   std::error_code error;
   std::filesystem::rename(temporary, request.output_md, error);
   if (error) throw host::HostError(request.output_md + ": " + error.message());
+}
+
+void write_estimator_section(std::ostream& out, const std::string& bench_estimator_json) {
+  const std::string text = report::read_text(bench_estimator_json);
+  if (text.empty()) throw host::HostError(bench_estimator_json + ": missing or empty");
+  report::section_estimator(out, text);
 }
 
 }  // namespace stickslip::tradeoff

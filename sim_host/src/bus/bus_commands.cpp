@@ -13,6 +13,7 @@
 #include "bus_endpoint.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/output_file.hpp"
+#include "stickslip/host/io/rig_recording.hpp"
 #include "stickslip/host/io/trace_csv.hpp"
 #include "stickslip/host/run/stats_json.hpp"
 
@@ -42,8 +43,9 @@ void add_counters(port::TransportCounters& sum, const port::TransportCounters& m
 
 EcuNodeConfig node_config(const SimulationSetup& setup, ScalarType scalar,
                           const can::CheckerConfig& checker, bool keep_trace, unsigned output_every,
-                          OutputSet outputs) {
+                          OutputSet outputs, bool estimator = false) {
   EcuNodeConfig config;
+  config.estimator = estimator;
   config.setup = setup;
   config.scalar = scalar;
   config.checker = checker;
@@ -177,8 +179,10 @@ ReplayResult replay_file(const ReplayRequest& request) {
   if (request.output_path.empty()) throw UsageError("--output: required");
   if (request.setup.reference) throw UsageError("--integrator reference: not available for replay");
   const BusRecording recording =
-      read_bus_recording(request.input_path, request.log_dt_s, request.recording,
-                         request.log_dt_given, !request.retime);
+      request.estimator
+          ? frames_from_rig(request.input_path)
+          : read_bus_recording(request.input_path, request.log_dt_s, request.recording,
+                               request.log_dt_given, !request.retime);
   SimulationSetup setup = request.setup;
   setup.params.dt_s = recording.dt_s;
 
@@ -187,12 +191,12 @@ ReplayResult replay_file(const ReplayRequest& request) {
   result.recording_note = recording.recording_note;
   result.input_saturated = recording.saturated;
   EcuNode node(node_config(setup, request.scalar, request.checker, true, request.output_every,
-                           request.outputs));  // may throw: first
+                           request.outputs, request.estimator));  // may throw: first
 
   std::unique_ptr<port::Transport> sender = open_bus(request.bus, "--bus");
   std::unique_ptr<port::Transport> node_port = open_bus(request.bus, "--bus");
-  // The sender listens to the node's outputs only (0x180..0x183).
-  const port::ReceiveFilter outputs_only{can::kSeatMotion.id, can::kStandardIdMask & ~0x3u};
+  // The sender listens to the node's outputs only (0x180..0x187).
+  const port::ReceiveFilter outputs_only{can::kSeatMotion.id, can::kStandardIdMask & ~0x7u};
   sender->set_filters(&outputs_only, 1);
 
   const bool log_bus = !request.output_log_path.empty();
@@ -252,6 +256,8 @@ ReplayResult replay_file(const ReplayRequest& request) {
                                                      request.output_path}),
       request, recording, result.bus_load, node.samples(), result.faults, result.node,
       result.sender);
+  if (node.estimator())
+    result.estimator_limits = estimator_limits(node.estimator_report().sensors, node.samples());
   return result;
 }
 
@@ -283,6 +289,27 @@ class BusDownCounter {
 // At most this many queued frames are still taken after a stop (a bus that never goes quiet).
 constexpr std::uint64_t kMaxDrainFrames = 1000000;
 
+// The state estimator's part of the ecu JSON (--estimator): the SeatSensors counters, the last
+// estimates (friction levels null until converged) and what it could not estimate.
+nlohmann::ordered_json estimator_json(const EcuNode& node) {
+  const EstimatorReport r = node.estimator_report();
+  nlohmann::ordered_json out;
+  out["sensor_frames"] = r.sensors.frames;
+  out["sensor_accepted"] = r.sensors.accepted;
+  out["sensor_refused"] = r.sensors.refused;
+  out["sensor_unused"] = r.sensors.unused;
+  out["samples_with_a_x"] = r.sensors.with_a_x;
+  out["samples_with_travel"] = r.sensors.with_travel;
+  out["x_r"] = r.x_r_m;
+  out["v_r"] = r.v_r_m_per_s;
+  out["f_f"] = r.friction_n;
+  out["ffk"] = r.kinetic_converged ? nlohmann::ordered_json(r.kinetic_friction_n) : nullptr;
+  out["ffs"] = r.static_converged ? nlohmann::ordered_json(r.static_friction_n) : nullptr;
+  out["breakaways"] = r.breakaways;
+  out["cannot_estimate"] = estimator_limits(r.sensors, node.samples());
+  return out;
+}
+
 // The ecu command's last line of stdout.
 std::string ecu_json(const EcuRequest& request, const EcuResult& result, const EcuNode& node) {
   nlohmann::ordered_json json;
@@ -305,6 +332,7 @@ std::string ecu_json(const EcuRequest& request, const EcuResult& result, const E
   json["faults"] = nlohmann::ordered_json::parse(fault_counters_json(result.faults));
   json["receive_drops"] = result.transport.receive_drops;
   json["malformed_reads"] = result.transport.malformed_reads;
+  if (node.estimator()) json["estimator"] = estimator_json(node);
   return json.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
@@ -334,7 +362,7 @@ EcuResult run_ecu(const EcuRequest& request) {
     throw UsageError(
         fmt::format("--receive-buffer: must be >= 0 bytes, got {}", request.receive_buffer_bytes));
   EcuNode node(node_config(request.setup, request.scalar, request.checker, keep_trace,
-                           request.output_every, request.outputs));
+                           request.output_every, request.outputs, request.estimator));
   std::unique_ptr<port::Transport> bus =
       open_bus(request.bus, "--bus", request.receive_buffer_bytes);
   EcuResult result;
@@ -401,6 +429,8 @@ EcuResult run_ecu(const EcuRequest& request) {
   if (!request.sample_index_path.empty())
     write_sample_index(request.sample_index_path, node.trace());
   result.json = ecu_json(request, result, node);
+  if (node.estimator())
+    result.estimator_limits = estimator_limits(node.estimator_report().sensors, node.samples());
   return result;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "bus_endpoint.hpp"
 #include "stickslip/can/codec.hpp"
@@ -12,6 +13,7 @@
 #include "stickslip/host/bus/bus_commands.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/csv_reader.hpp"
+#include "stickslip/host/io/rig_recording.hpp"
 
 namespace stickslip::host {
 
@@ -41,6 +43,26 @@ BusRecording frames_from_csv(const std::string& path, const RecordingOptions& op
     bool saturated = false;
     recording.frames.push_back(can::make_input_frame(signal.a_u_m_per_s2[n], n, &saturated));
     if (saturated) ++recording.saturated;
+  }
+  return recording;
+}
+
+BusRecording frames_from_rig(const std::string& path) {
+  const RigRecording rig = read_rig_recording(path);
+  BusRecording recording;
+  recording.t_s = rig.t_s;
+  recording.dt_s = rig.dt_s;
+  recording.recording_note = {};
+  recording.frames.reserve(2 * rig.a_u_m_per_s2.size());
+  const double no_travel = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t n = 0; n < rig.a_u_m_per_s2.size(); ++n) {
+    bool saturated = false;
+    // Sample n's sensors go out before its SeatInput (sensor_receiver.hpp).
+    recording.frames.push_back(can::make_sensor_frame(
+        rig.a_x_m_per_s2[n], rig.has_travel() ? rig.x_r_m[n] : no_travel, n, &saturated));
+    bool input_saturated = false;
+    recording.frames.push_back(can::make_input_frame(rig.a_u_m_per_s2[n], n, &input_saturated));
+    if (saturated || input_saturated) ++recording.saturated;
   }
   return recording;
 }

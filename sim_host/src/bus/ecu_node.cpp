@@ -13,6 +13,7 @@
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
 #include "stickslip/observer/observer.hpp"
+#include "stickslip/observer/state_estimator.hpp"
 
 namespace stickslip::host {
 
@@ -33,7 +34,50 @@ class SeatModel {
   virtual ObserverSummary observed() const = 0;
 };
 
+// The state estimator behind one virtual call per sample, in the run's scalar (double or float:
+// the decoded inputs are exact in both).
+class SeatEstimatorRun {
+ public:
+  virtual ~SeatEstimatorRun() = default;
+  virtual void reset(double a_u, double x0_m) = 0;
+  virtual void step(double a_u, double a_x, double x_r) = 0;
+  virtual StateEstimate<double> estimate() const = 0;
+};
+
 namespace {
+
+template <typename T>
+class SeatEstimatorFor final : public SeatEstimatorRun {
+ public:
+  explicit SeatEstimatorFor(const StateEstimatorParams& params) {
+    const ConfigResult configured = estimator_.configure(params);
+    if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+  }
+  void reset(double a_u, double x0_m) override {
+    estimator_.reset(static_cast<T>(a_u), static_cast<T>(x0_m));
+  }
+  void step(double a_u, double a_x, double x_r) override {
+    estimator_.step(static_cast<T>(a_u), static_cast<T>(a_x), static_cast<T>(x_r));
+  }
+  StateEstimate<double> estimate() const override {
+    const StateEstimate<T>& e = estimator_.estimate();
+    StateEstimate<double> out;
+    out.x_r_m = e.x_r_m;
+    out.v_r_m_per_s = e.v_r_m_per_s;
+    out.friction_n = e.friction_n;
+    out.kinetic_friction_n = e.kinetic_friction_n;
+    out.static_friction_n = e.static_friction_n;
+    out.bias_m_per_s2 = e.bias_m_per_s2;
+    out.relative_acceleration_m_per_s2 = e.relative_acceleration_m_per_s2;
+    out.stuck = e.stuck;
+    out.breakaways = e.breakaways;
+    out.kinetic_samples = e.kinetic_samples;
+    return out;
+  }
+
+ private:
+  StateEstimator<T> estimator_;
+};
 
 template <typename T, typename Law>
 class SeatModelFor final : public SeatModel {
@@ -192,6 +236,46 @@ std::string ecu_node_scalar_refusal(ScalarType scalar) {
          "by the host ECU node; use fixed (Q23.40)";
 }
 
+StateEstimatorParams node_estimator_params(const OscillatorParams& params) {
+  StateEstimatorParams p;
+  p.mass_kg = params.mass_kg;
+  p.stiffness_n_per_m = params.stiffness_n_per_m;
+  p.damping_ns_per_m = params.damping_ns_per_m;
+  p.initial_kinetic_friction_n = params.kinetic_friction_n;
+  p.initial_static_friction_n = std::fmax(params.static_friction_n, params.kinetic_friction_n);
+  p.dt_s = params.dt_s;
+  return p;
+}
+
+bool kinetic_friction_converged(const StateEstimatorParams& params, std::uint64_t kinetic_samples) {
+  return static_cast<double>(kinetic_samples) * params.dt_s >= 3.0 * params.kinetic_friction_time_s;
+}
+
+bool static_friction_converged(const StateEstimatorParams& params, std::uint32_t breakaways) {
+  const double w = params.static_friction_weight;
+  const double needed = w >= 1.0 ? 1.0 : std::ceil(3.0 / -std::log1p(-w));
+  return static_cast<double>(breakaways) >= needed;
+}
+
+std::string estimator_limits(const can::SensorCounters& sensors, std::uint64_t samples) {
+  if (samples == 0) return "no samples: nothing estimated";
+  if (sensors.with_a_x == 0 && sensors.with_travel == 0) {
+    return "no SeatSensors samples (a_x, x_r): the estimator runs the model open loop from its "
+           "start values; x_r, v_r and F_f are the model's, F_fk and F_fs are not estimated "
+           "(FrictionEstimate sends not available)";
+  }
+  if (sensors.with_a_x == 0) {
+    return "no seat acceleration a_x: F_fk and F_fs are not learnt (FrictionEstimate sends not "
+           "available); v_r and F_f are right only where the start values are the seat's "
+           "friction";
+  }
+  if (sensors.with_travel == 0) {
+    return "no travel x_r: x_r's offset is not observable (bounded by the stick band F_fs/k, a "
+           "few tenths of a mm); v_r, F_f, F_fk and F_fs are estimated";
+  }
+  return {};
+}
+
 EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config.checker) {
   if (config_.stats_every == 0) config_.stats_every = 1;
   if (config_.output_every == 0) throw UsageError("--output-every: must be >= 1 sample");
@@ -201,6 +285,18 @@ EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config
   model_ = config_.scalar == ScalarType::fixed     ? make_fixed_model(config_.setup)
            : config_.scalar == ScalarType::float32 ? make_model<float>(config_.setup)
                                                    : make_model<double>(config_.setup);
+  if (config_.estimator) {
+    if (config_.scalar == ScalarType::fixed)
+      throw UsageError(
+          "--estimator: runs in double or float only (its covariance spans 1e-16 .. 1e2, which no "
+          "Q format holds); use --scalar double or float");
+    estimator_params_ = node_estimator_params(config_.setup.params);
+    if (config_.scalar == ScalarType::float32) {
+      estimator_ = std::make_unique<SeatEstimatorFor<float>>(estimator_params_);
+    } else {
+      estimator_ = std::make_unique<SeatEstimatorFor<double>>(estimator_params_);
+    }
+  }
 }
 
 EcuNode::~EcuNode() = default;
@@ -208,6 +304,25 @@ EcuNode::~EcuNode() = default;
 can::FrameVerdict EcuNode::on_frame(const can::Frame& frame, std::uint64_t now_ns,
                                     std::vector<can::Frame>& outputs) {
   const std::uint64_t start = clock_ns();
+  if (estimator_ && frame.id == can::kSeatSensors.id) {
+    // Kept for the SeatInput sample with its counter (sensor_receiver.hpp); no sample by itself.
+    const can::SensorVerdict verdict = sensors_.take(frame);
+    if (verdict != can::SensorVerdict::not_sensors) {
+      busy_s_ += static_cast<double>(clock_ns() - start) * 1e-9;
+      switch (verdict) {
+        case can::SensorVerdict::accepted:
+          return can::FrameVerdict::accepted;
+        case can::SensorVerdict::wrong_length:
+          return can::FrameVerdict::wrong_length;
+        case can::SensorVerdict::bad_crc:
+          return can::FrameVerdict::bad_crc;
+        case can::SensorVerdict::duplicate:
+          return can::FrameVerdict::duplicate;
+        default:
+          return can::FrameVerdict::alive_mismatch;
+      }
+    }
+  }
   const can::CheckResult result = checker_.check(frame, now_ns);
   if (frame.id == can::kSeatInput.id && !(frame.flags & can::kExtendedId)) ++input_frames_;
   const bool accepted = result.verdict == can::FrameVerdict::accepted;
@@ -257,6 +372,61 @@ void EcuNode::emit(double a_u, bool held, bool resync, std::int64_t sample,
   }
 
   publish(out.x_r, out.v_r, out.a_x, out.f_f, out.stuck, held, resync, index, outputs);
+  if (estimator_) estimate(a_u, held, resync, sample, index, outputs);
+}
+
+void EcuNode::estimate(double a_u, bool held, bool resync, std::int64_t sample, std::uint64_t index,
+                       std::vector<can::Frame>& outputs) {
+  // The sensors measured at this sample (a held sample's too: only its SeatInput was lost).
+  double a_x = 0.0, x_r = 0.0;
+  sensors_.sample(static_cast<std::uint16_t>(static_cast<std::uint64_t>(sample) & 0xFFFFu), a_x,
+                  x_r);
+  if (index == 0) {
+    // Parked where the travel sensor says (the setup's x0 without one), as the model starts.
+    estimator_->reset(a_u, std::isfinite(x_r) ? x_r : config_.setup.x0_m);
+  } else {
+    estimator_->step(a_u, a_x, x_r);
+  }
+  const StateEstimate<double> e = estimator_->estimate();
+  const auto counter = static_cast<std::uint16_t>(index & 0xFFFFu);
+  const std::uint8_t state_flags = static_cast<std::uint8_t>(
+      (e.stuck ? can::kStuck : 0) | (held ? can::kHeld : 0) | (resync ? can::kResync : 0));
+  const bool reduced = config_.outputs == OutputSet::reduced;
+  if (index % config_.output_every == 0) {
+    outputs.push_back(
+        output_frame(can::kSeatEstimate, counter, alive_[4], state_flags, e.x_r_m, e.v_r_m_per_s));
+    if (!reduced)
+      outputs.push_back(output_frame(can::kSeatEstimateForce, counter, alive_[5], state_flags,
+                                     e.friction_n, e.bias_m_per_s2));
+  }
+  if (index % config_.stats_every == 0) {
+    // Not available (all ones, J1939 style) until the start value has lost its weight.
+    const double not_available = std::numeric_limits<double>::quiet_NaN();
+    outputs.push_back(output_frame(
+        can::kFrictionEstimate, counter, alive_[6], 0,
+        kinetic_friction_converged(estimator_params_, e.kinetic_samples) ? e.kinetic_friction_n
+                                                                         : not_available,
+        static_friction_converged(estimator_params_, e.breakaways) ? e.static_friction_n
+                                                                   : not_available));
+  }
+}
+
+EstimatorReport EcuNode::estimator_report() const {
+  EstimatorReport report;
+  report.sensors = sensors_.counters();
+  if (!estimator_ || samples_ == 0) return report;
+  const StateEstimate<double> e = estimator_->estimate();
+  report.x_r_m = e.x_r_m;
+  report.v_r_m_per_s = e.v_r_m_per_s;
+  report.friction_n = e.friction_n;
+  report.kinetic_friction_n = e.kinetic_friction_n;
+  report.static_friction_n = e.static_friction_n;
+  report.bias_m_per_s2 = e.bias_m_per_s2;
+  report.kinetic_converged = kinetic_friction_converged(estimator_params_, e.kinetic_samples);
+  report.static_converged = static_friction_converged(estimator_params_, e.breakaways);
+  report.breakaways = e.breakaways;
+  report.kinetic_samples = e.kinetic_samples;
+  return report;
 }
 
 void EcuNode::publish(double x_r, double v_r, double a_x, double f_f, bool stuck, bool held,

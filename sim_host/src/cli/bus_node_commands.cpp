@@ -79,6 +79,9 @@ class ReplayCommand : public Command {
                     "a log's time stamps are not the stream's (a capture of a faster playback): "
                     "run it at --dt, and time --output-log n * dt from now on the bus's interface");
     node_.add_to(replay, request_.checker);
+    replay.add_flag("--estimator", request_.estimator,
+                    "the input is a rig recording (t,a_u,a_x[,x_r]): send its sensors in "
+                    "SeatSensors and run the node's state estimator (docs/CAN.md)");
     replay.add_flag("--progress", progress_,
                     "frames sent on stderr once a second (default: on a terminal)");
     model_.add_to(replay, request_.setup, kNodeSceneHelp);
@@ -116,6 +119,7 @@ class ReplayCommand : public Command {
         request.input_path, result.bus, result.frames_sent, result.summary.samples,
         result.output_frames, result.output_frames_received, result.input_saturated);
     out << fault_counters_text(result.faults) << "\n";
+    if (!result.estimator_limits.empty()) out << "estimator: " << result.estimator_limits << "\n";
     out << result.stats_json << "\n";  // the last line of stdout, for tools
     return kExitOk;
   }
@@ -153,6 +157,9 @@ class EcuCommand : public Command {
         "--sample-index", request_.sample_index_path,
         "write n,sample,held per row: the sender's sample number of each row, 1 if held");
     node_.add_to(ecu, request_.checker);
+    ecu.add_flag("--estimator", request_.estimator,
+                 "run the state estimator on SeatInput + SeatSensors (measured a_x, x_r) and "
+                 "publish SeatEstimate, SeatEstimateForce, FrictionEstimate (docs/CAN.md)");
     ecu.add_flag("--progress", progress_,
                  "frames taken on stderr once a second (default: on a terminal)");
     model_.add_to(ecu, request_.setup, kNodeSceneHelp);
@@ -184,6 +191,7 @@ class EcuCommand : public Command {
     request.progress = bus_progress(progress);
     const EcuResult result = run_ecu(request);
     out << fault_counters_text(result.faults) << "\n";
+    if (!result.estimator_limits.empty()) out << "estimator: " << result.estimator_limits << "\n";
     out << result.json << "\n";
     return kExitOk;
   }

@@ -277,7 +277,10 @@ void fill_result(FitResult& result, const Attempt& best, const FitCovariance& co
     const std::size_t k = at(result.order[i]);
     result.fitted[k] = true;
     result.ci95[k] = covariance.ci95[i];
+    result.ci95_hac[k] = covariance.ci95_hac[i];
   }
+  result.hac_lag = covariance.hac_lag;
+  result.residual_lag1_correlation = covariance.residual_lag1_correlation;
   result.correlation = covariance.correlation;
   result.condition_number = covariance.condition_number;
   result.iterations = best.fit.iterations;

@@ -82,6 +82,7 @@ FitCovariance fit_covariance(const FitProblem& problem, const std::vector<double
   const std::size_t count = u.size();
   FitCovariance out;
   out.ci95.assign(count, std::numeric_limits<double>::infinity());
+  out.ci95_hac.assign(count, std::numeric_limits<double>::infinity());
   out.no_influence.assign(count, false);
   out.correlation.assign(count, std::vector<double>(count, std::nan("")));
   std::vector<double> residuals, columns;
@@ -124,6 +125,56 @@ FitCovariance fit_covariance(const FitProblem& problem, const std::vector<double
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
       value_map(map.data(), static_cast<Eigen::Index>(count), static_cast<Eigen::Index>(count));
   const Eigen::MatrixXd covariance = value_map * covariance_u * value_map.transpose();
+
+  // The sandwich: scores g_t = J_t r_t (kept columns), their long-run covariance by Newey-West
+  // with Bartlett weights 1 - l/(L+1), L from Andrews (1991): an AR(1) fitted to each score
+  // series, alpha = sum 4 rho^2 s^4 / ((1-rho)^6 (1+rho)^2) / sum s^4 / (1-rho)^4,
+  // L = 1.1447 (alpha N)^(1/3). White residuals give L = 0 and S = sum r_t^2 J_t J_t', which is
+  // s^2 J'J up to the noise of the estimate.
+  {
+    Eigen::MatrixXd scores(rows, used);
+    for (Eigen::Index a = 0; a < used; ++a)
+      scores.col(a) = jacobian.col(kept[static_cast<std::size_t>(a)]).cwiseProduct(r);
+    double numerator = 0.0, denominator = 0.0;
+    for (Eigen::Index a = 0; a < used; ++a) {
+      const auto g = scores.col(a);
+      const double g00 = g.head(rows - 1).squaredNorm();
+      const double rho = g00 > 0.0 ? g.tail(rows - 1).dot(g.head(rows - 1)) / g00 : 0.0;
+      const double s2 =
+          (g.tail(rows - 1) - rho * g.head(rows - 1)).squaredNorm() / static_cast<double>(rows - 1);
+      const double s4 = s2 * s2;
+      numerator += 4.0 * rho * rho * s4 / (std::pow(1.0 - rho, 6) * (1.0 + rho) * (1.0 + rho));
+      denominator += s4 / std::pow(1.0 - rho, 4);
+    }
+    const double alpha = denominator > 0.0 ? numerator / denominator : 0.0;
+    const double lag = std::floor(1.1447 * std::cbrt(alpha * static_cast<double>(rows)));
+    out.hac_lag = static_cast<int>(std::fmin(lag, static_cast<double>(rows - 1)));
+    const double r00 = r.head(rows - 1).squaredNorm();
+    out.residual_lag1_correlation = r00 > 0.0 ? r.tail(rows - 1).dot(r.head(rows - 1)) / r00 : 0.0;
+    Eigen::MatrixXd long_run = scores.transpose() * scores;
+    for (int l = 1; l <= out.hac_lag; ++l) {
+      const Eigen::MatrixXd gamma =
+          scores.bottomRows(rows - l).transpose() * scores.topRows(rows - l);
+      long_run +=
+          (1.0 - static_cast<double>(l) / (out.hac_lag + 1.0)) * (gamma + gamma.transpose());
+    }
+    // Degrees of freedom as the classic estimate: N / (N - P).
+    long_run *= static_cast<double>(rows) / static_cast<double>(rows - used);
+    const Eigen::MatrixXd bread = scale.asDiagonal() * inverse_scaled * scale.asDiagonal();
+    const Eigen::MatrixXd sandwich_kept = bread * long_run * bread;
+    Eigen::MatrixXd sandwich_u =
+        Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(count), static_cast<Eigen::Index>(count));
+    for (Eigen::Index a = 0; a < used; ++a)
+      for (Eigen::Index b = 0; b < used; ++b)
+        sandwich_u(kept[static_cast<std::size_t>(a)], kept[static_cast<std::size_t>(b)]) =
+            sandwich_kept(a, b);
+    const Eigen::MatrixXd sandwich = value_map * sandwich_u * value_map.transpose();
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto ii = static_cast<Eigen::Index>(i);
+      if (!out.no_influence[i] && sandwich(ii, ii) >= 0.0)
+        out.ci95_hac[i] = 1.959963984540054 * std::sqrt(sandwich(ii, ii));
+    }
+  }
   for (std::size_t i = 0; i < count; ++i) {
     const auto ii = static_cast<Eigen::Index>(i);
     if (out.no_influence[i]) continue;

@@ -35,6 +35,13 @@ struct FitCovariance {
   std::vector<std::vector<double>> correlation;
   double condition_number = 0.0;  // of J'J scaled to a unit diagonal (the unknowns' correlation)
   std::vector<bool> no_influence;
+  // The same intervals from the heteroskedasticity- and autocorrelation-consistent (sandwich)
+  // covariance (J'J)^-1 S (J'J)^-1, S the Newey-West (Bartlett) estimate of the scores'
+  // long-run covariance with Andrews' AR(1) plug-in lag: what the intervals become when the
+  // residuals are not white.
+  std::vector<double> ci95_hac;
+  int hac_lag = 0;                         // samples
+  double residual_lag1_correlation = 0.0;  // of the residuals at the solution
 };
 
 // s^2 (J'J)^-1 with s^2 = SSR / (N - P), mapped to the parameters; 95 % = 1.96 standard errors.

@@ -20,6 +20,7 @@ struct ReportRequest {
   // collection on inside run_batch/run_stream only). Optional.
   std::string batch_profile_dir;
   std::string bench_step_avx2_json;  // batch vs singles built with -march=x86-64-v3 (optional)
+  std::string bench_estimator_json;  // stickslip_bench_state_estimator's JSON (optional)
   std::string output_md;
   std::string plot_dir;    // gnuplot data and pareto.gp are written here
   std::string image_link;  // directory of the PNGs, relative to the .md
@@ -29,5 +30,9 @@ struct ReportRequest {
 
 // Throws host::HostError on unreadable input or an unwritable output.
 void write_report(const ReportRequest& request);
+
+// The report's state estimator section alone, from stickslip_bench_state_estimator's JSON, to
+// `out` (what write_report() puts in docs/PERFORMANCE.md; for running that benchmark alone).
+void write_estimator_section(std::ostream& out, const std::string& bench_estimator_json);
 
 }  // namespace stickslip::tradeoff

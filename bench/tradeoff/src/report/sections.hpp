@@ -44,4 +44,8 @@ void section_bench_step(std::ostream& md, const std::string& bench_text);
 void section_batch_profile(std::ostream& md, const ReportRequest& request,
                            const std::vector<BatchResult>& batches);
 
+// The state estimator's ns/sample and its ratio to the plain step, from
+// stickslip_bench_state_estimator's --benchmark_out JSON (section_estimator.cpp).
+void section_estimator(std::ostream& md, const std::string& bench_json);
+
 }  // namespace stickslip::tradeoff::report

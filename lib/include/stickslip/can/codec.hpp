@@ -53,6 +53,15 @@ inline constexpr MessageSpec kSeatInput{"SeatInput",
                                         0x5A10,
                                         {{"a_u", true, 10, "m/s^2"}, {"a_seat", true, 10, "m/s^2"}},
                                         {"a_u_saturated", "a_seat_saturated", nullptr, nullptr}};
+// The seat's own sensors (host or sensor -> ECU) for the state estimator, sample for sample with
+// SeatInput (the same sample counter; sent before the SeatInput frame of its sample): the
+// measured seat acceleration a_x (the SeatInput scale) and the measured suspension travel x_r
+// (2^-16 m = 15 um, finer than a 0.1 mm travel sensor). Either may be not available.
+inline constexpr MessageSpec kSeatSensors{"SeatSensors",
+                                          0x101,
+                                          0x5A11,
+                                          {{"a_x", true, 10, "m/s^2"}, {"x_r", true, 16, "m"}},
+                                          {"a_x_saturated", "x_r_saturated", nullptr, nullptr}};
 // ECU outputs, every sample.
 inline constexpr MessageSpec kSeatMotion{"SeatMotion",
                                          0x180,
@@ -76,13 +85,39 @@ inline constexpr MessageSpec kSeatScene{"SeatScene",
                                         {{"K", false, 10, ""}, {"faults", false, 0, "frames"}},
                                         {nullptr, nullptr, nullptr, "saturated"}};
 
-inline constexpr const MessageSpec* kMessages[] = {&kSeatInput, &kSeatMotion, &kSeatForce,
-                                                   &kSeatStats, &kSeatScene};
-inline constexpr const MessageSpec* kOutputMessages[] = {&kSeatMotion, &kSeatForce, &kSeatStats,
-                                                         &kSeatScene};
+// The state estimator's outputs (observer/state_estimator.hpp; the node's --estimator): the
+// corrected seat state every output cycle, the friction levels it has learnt every stats cycle.
+inline constexpr MessageSpec kSeatEstimate{
+    "SeatEstimate",
+    0x184,
+    0x5A84,
+    {{"x_r_est", true, 16, "m"}, {"v_r_est", true, 12, "m/s"}},
+    {"stuck", "held", "resync", "saturated"}};
+inline constexpr MessageSpec kSeatEstimateForce{
+    "SeatEstimateForce",
+    0x185,
+    0x5A85,
+    {{"f_f_est", true, 6, "N"}, {"a_bias_est", true, 14, "m/s^2"}},
+    {"stuck", "held", "resync", "saturated"}};
+// F_fk and F_fs estimates: not available until converged (the start value's weight below 5 %).
+inline constexpr MessageSpec kFrictionEstimate{
+    "FrictionEstimate",
+    0x186,
+    0x5A86,
+    {{"F_fk_est", false, 6, "N"}, {"F_fs_est", false, 6, "N"}},
+    {nullptr, nullptr, nullptr, "saturated"}};
+
+inline constexpr const MessageSpec* kMessages[] = {
+    &kSeatInput, &kSeatSensors,  &kSeatMotion,        &kSeatForce,       &kSeatStats,
+    &kSeatScene, &kSeatEstimate, &kSeatEstimateForce, &kFrictionEstimate};
+inline constexpr const MessageSpec* kInputMessages[] = {&kSeatInput, &kSeatSensors};
+inline constexpr const MessageSpec* kOutputMessages[] = {
+    &kSeatMotion,   &kSeatForce,         &kSeatStats,       &kSeatScene,
+    &kSeatEstimate, &kSeatEstimateForce, &kFrictionEstimate};
 
 // Flag bits (as Payload::flags, bits 0..3).
 enum InputFlag : std::uint8_t { kAuSaturated = 1u << 0, kASeatSaturated = 1u << 1 };
+enum SensorFlag : std::uint8_t { kAxSaturated = 1u << 0, kXrSaturated = 1u << 1 };
 enum OutputFlag : std::uint8_t {
   kStuck = 1u << 0,      // SeatMotion/SeatForce: stuck at the end of the step
   kHeld = 1u << 1,       // the sample was held (gap policy), not received
@@ -201,6 +236,31 @@ Frame make_input_frame(T a_u_m_per_s2, std::uint64_t sample_index, bool* saturat
   payload.words[1] = a_seat.word;
   if (saturated != nullptr) *saturated = a_u.saturated;
   return make_frame(kSeatInput, payload);
+}
+
+// The SeatSensors frame for sample `sample_index` (counters as make_input_frame()); NaN for a
+// sensor that is not fitted. `saturated` reports a clipped signal.
+template <typename T>
+Frame make_sensor_frame(T a_x_m_per_s2, T x_r_m, std::uint64_t sample_index,
+                        bool* saturated = nullptr) noexcept {
+  const Quantised a_x = quantise(kSeatSensors.signals[0], a_x_m_per_s2);
+  const Quantised x_r = quantise(kSeatSensors.signals[1], x_r_m);
+  Payload payload;
+  payload.sample_counter = static_cast<std::uint16_t>(sample_index & 0xFFFFu);
+  payload.alive_counter = static_cast<std::uint8_t>(sample_index & 0x0Fu);
+  payload.flags = static_cast<std::uint8_t>((a_x.saturated ? kAxSaturated : 0) |
+                                            (x_r.saturated ? kXrSaturated : 0));
+  payload.words[0] = a_x.word;
+  payload.words[1] = x_r.word;
+  if (saturated != nullptr) *saturated = a_x.saturated || x_r.saturated;
+  return make_frame(kSeatSensors, payload);
+}
+
+// A sensor value exactly as the ECU sees it after the bus (signal 0: a_x, 1: x_r).
+template <typename T>
+T quantised_sensor(int signal, T value) noexcept {
+  const SignalSpec& spec = kSeatSensors.signals[signal];
+  return physical<T>(spec, quantise(spec, value).word);
 }
 
 // a_u exactly as the ECU sees it after the bus: quantise then decode (the quantisation contract

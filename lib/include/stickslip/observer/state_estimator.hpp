@@ -60,7 +60,8 @@ struct StateEstimate {
   T bias_m_per_s2{};                   // bias of a_x - a_u (learnt while stuck)
   T relative_acceleration_m_per_s2{};  // low-passed a_x - a_u - bias (the model's without a_x)
   bool stuck = true;
-  std::uint32_t breakaways = 0;  // break-aways seen (F_fs samples taken)
+  std::uint32_t breakaways = 0;       // break-aways seen (F_fs samples taken)
+  std::uint64_t kinetic_samples = 0;  // F_fk samples taken (slip samples with a_x)
 };
 
 template <typename T>
@@ -221,6 +222,7 @@ class StateEstimator {
     static_ = c_.initial_static;
     bias_ = T(0);
     breakaways_ = 0;
+    kinetic_samples_ = 0;
     rejected_ = 0;
     park(x0_m);
   }
@@ -270,7 +272,10 @@ class StateEstimator {
         // A force against the Coulomb direction is a filter still settling after an event, not a
         // sample of F_fk.
         const T sample = v_ > T(0) ? f_ : -f_;
-        if (sample > T(0)) kinetic_ += c_.kinetic_gain * (sample - kinetic_);
+        if (sample > T(0)) {
+          kinetic_ += c_.kinetic_gain * (sample - kinetic_);
+          ++kinetic_samples_;
+        }
         if (static_ < kinetic_) static_ = kinetic_;
       }
     }
@@ -482,6 +487,7 @@ class StateEstimator {
     estimate_.relative_acceleration_m_per_s2 = a_filtered_;
     estimate_.stuck = stuck_;
     estimate_.breakaways = breakaways_;
+    estimate_.kinetic_samples = kinetic_samples_;
   }
 
   Coefficients c_{};
@@ -494,6 +500,7 @@ class StateEstimator {
   bool stuck_ = true;
   bool configured_ = false;
   std::uint32_t breakaways_ = 0;
+  std::uint64_t kinetic_samples_ = 0;
   std::uint64_t rejected_ = 0, resets_ = 0;
 };
 

@@ -53,6 +53,10 @@ LogInterval choose_log_interval(const std::string& path, double log_interval_s, 
 // A recording as simulate reads it (recording_source.hpp): one SeatInput frame per sample,
 // counter = n mod 2^16.
 BusRecording frames_from_csv(const std::string& path, const RecordingOptions& recording = {});
+// A rig recording (rig_recording.hpp: t, a_u, a_x[, x_r]) as the sensors and the floor would send
+// it to a node running the estimator: per sample a SeatSensors frame (a_x, and x_r or not
+// available), then the SeatInput frame; `saturated` counts samples with a clipped signal.
+BusRecording frames_from_rig(const std::string& path);
 // candump log (by read_candump_log): every frame as logged, whatever it is; the interval by
 // choose_log_interval(), or dt_s when `log_times` is false (time stamps that are not the
 // stream's: a capture of a stream played faster than real time).
@@ -97,6 +101,9 @@ struct ReplayRequest {
   unsigned output_every = 1;  // the node's output cycle (EcuNodeConfig)
   OutputSet outputs = OutputSet::full;
   can::CheckerConfig checker;
+  // The input is a rig recording (frames_from_rig) and the node runs the state estimator on it
+  // (EcuNodeConfig::estimator).
+  bool estimator = false;
   int receive_timeout_ms = 1000;  // per frame: longer is counted as silence and the replay goes on
   BusProgress progress;           // empty: none
 };
@@ -123,6 +130,7 @@ struct ReplayResult {
   std::uint64_t output_frames_received = 0;  // seen back by the sender
   BusLoad bus_load;                          // everything sent on the bus
   std::string stats_json;                    // one line: simulate's keys, then bus and faults
+  std::string estimator_limits;  // --estimator: what it could not estimate (empty: nothing)
 };
 
 // Streams the recording over the bus to an EcuNode in this process (two endpoints on the same
@@ -142,7 +150,8 @@ struct EcuRequest {
   unsigned output_every = 1;      // the node's output cycle (EcuNodeConfig)
   OutputSet outputs = OutputSet::full;
   can::CheckerConfig checker;
-  int poll_ms = 20;  // receive timeout between checks of `stop`
+  bool estimator = false;  // run the state estimator on SeatSensors (EcuNodeConfig::estimator)
+  int poll_ms = 20;        // receive timeout between checks of `stop`
   // SocketCAN SO_RCVBUF in bytes (0: the kernel's default; the kernel doubles it, up to twice
   // net.core.rmem_max): room for a node that falls behind a fast stream (receive_drops).
   int receive_buffer_bytes = 0;
@@ -160,6 +169,8 @@ struct EcuResult {
   std::uint64_t bus_down = 0;              // times the interface went down (or away) under the node
   std::uint64_t left_after_stop = 0;  // 1: the frame that ended the drain after a stop (unused)
   std::string json;                   // one line
+  // --estimator: what the estimator could not estimate on this run (empty: nothing missing).
+  std::string estimator_limits;
 };
 
 // The node on a bus until stopped. The interface going down (ENETDOWN) does not end the run:

@@ -12,7 +12,9 @@
 #include "stickslip/can/codec.hpp"
 #include "stickslip/can/frame.hpp"
 #include "stickslip/can/receive_checker.hpp"
+#include "stickslip/can/sensor_receiver.hpp"
 #include "stickslip/host/run/simulation.hpp"
+#include "stickslip/observer/state_estimator_params.hpp"
 
 namespace stickslip::host {
 
@@ -29,7 +31,35 @@ struct EcuNodeConfig {
   unsigned output_every = 1;  // SeatMotion/SeatForce every this many samples (>= 1)
   OutputSet outputs = OutputSet::full;
   bool keep_trace = true;  // store every sample (rows) for a CSV; off for an endless ecu run
+  // Run the state estimator (observer/state_estimator.hpp) on SeatInput and SeatSensors and
+  // publish SeatEstimate (and SeatEstimateForce with the full set) every output cycle and
+  // FrictionEstimate every stats cycle. Double, or float with --scalar float; not fixed point.
+  bool estimator = false;
 };
+
+// The estimator's parameters for the node's seat: mass, k, b and the start values of F_fk and
+// F_fs from the model parameters (F_fs at least F_fk), the sample interval, the rest defaults.
+StateEstimatorParams node_estimator_params(const OscillatorParams& params);
+
+// When a friction estimate is published (not available before): the start value's weight in the
+// exponential average has fallen to e^-3 (5 %): 3 averaging times of slip samples for F_fk,
+// ceil(3 / -ln(1 - w)) break-aways for F_fs (w the weight of one).
+bool kinetic_friction_converged(const StateEstimatorParams& params, std::uint64_t kinetic_samples);
+bool static_friction_converged(const StateEstimatorParams& params, std::uint32_t breakaways);
+
+// The state estimator's view of the run (EcuNode::estimator_report()).
+struct EstimatorReport {
+  can::SensorCounters sensors;
+  double x_r_m = 0.0, v_r_m_per_s = 0.0, friction_n = 0.0;
+  double kinetic_friction_n = 0.0, static_friction_n = 0.0, bias_m_per_s2 = 0.0;
+  bool kinetic_converged = false, static_converged = false;
+  std::uint32_t breakaways = 0;
+  std::uint64_t kinetic_samples = 0;
+};
+
+// What the estimator could not estimate on this run, from the sensors it was given (one
+// sentence; empty when a_x and travel came with the samples).
+std::string estimator_limits(const can::SensorCounters& sensors, std::uint64_t samples);
 
 // One output sample of the node, as simulate writes it (double holds a float run exactly).
 struct NodeTrace {
@@ -44,6 +74,7 @@ struct NodeTrace {
 };
 
 class SeatModel;  // the oscillator + statistics for the configured law and scalar (ecu_node.cpp)
+class SeatEstimatorRun;  // the state estimator in the configured scalar (ecu_node.cpp)
 
 class EcuNode {
  public:
@@ -76,16 +107,24 @@ class EcuNode {
   // The statistics of the run so far, as simulate_signal() reports them (ns_per_sample: wall
   // time of on_frame per sample, not comparable with simulate's tight loop).
   SimulationSummary summary() const;
+  // The estimator's counters and last estimate (config.estimator only).
+  bool estimator() const noexcept { return config_.estimator; }
+  EstimatorReport estimator_report() const;
 
  private:
   void emit(double a_u, bool held, bool resync, std::int64_t sample,
             std::vector<can::Frame>& outputs);
   void publish(double x_r, double v_r, double a_x, double f_f, bool stuck, bool held, bool resync,
                std::uint64_t index, std::vector<can::Frame>& outputs);
+  void estimate(double a_u, bool held, bool resync, std::int64_t sample, std::uint64_t index,
+                std::vector<can::Frame>& outputs);
 
   EcuNodeConfig config_;
   can::ReceiveChecker checker_;
   std::unique_ptr<SeatModel> model_;
+  std::unique_ptr<SeatEstimatorRun> estimator_;
+  StateEstimatorParams estimator_params_;
+  can::SensorReceiver sensors_;
   NodeTrace trace_;
   std::uint64_t samples_ = 0;
   std::uint64_t input_frames_ = 0;
@@ -94,7 +133,7 @@ class EcuNode {
   std::int64_t last_sample_ = 0;
   std::uint16_t last_counter_ = 0;  // of the last frame that brought a sample (or a hold)
   double busy_s_ = 0.0;
-  std::uint8_t alive_[4] = {0, 0, 0, 0};
+  std::uint8_t alive_[7] = {0, 0, 0, 0, 0, 0, 0};
 };
 
 // One output frame of `message` for sample `sample_counter`; advances the message's `alive`

@@ -52,11 +52,15 @@ struct FitResult {
   std::array<double, kFitParameterCount> value{};  // SI; fixed ones as given
   std::array<double, kFitParameterCount> ci95{};   // half-width of the 95 % interval
   std::array<double, kFitParameterCount> start{};  // where the local solver started
-  std::vector<FitParameter> order;                 // the fitted ones, in order
-  std::vector<std::vector<double>> correlation;    // of `order`
-  double condition_number = 0.0;                   // of the scaled J'J
-  double rms_residual_m_per_s2 = 0.0;              // a_x
-  double rms_travel_residual_m = 0.0;              // x_r (0 without travel)
+  // The sandwich (HAC) interval of the same fit (fit_solver.hpp), for the validation's comparison.
+  std::array<double, kFitParameterCount> ci95_hac{};
+  int hac_lag = 0;
+  double residual_lag1_correlation = 0.0;
+  std::vector<FitParameter> order;               // the fitted ones, in order
+  std::vector<std::vector<double>> correlation;  // of `order`
+  double condition_number = 0.0;                 // of the scaled J'J
+  double rms_residual_m_per_s2 = 0.0;            // a_x
+  double rms_travel_residual_m = 0.0;            // x_r (0 without travel)
   double transmissibility_measured = 0.0, transmissibility_model = 0.0;
   double stick_probability_measured = 0.0, stick_probability_model = 0.0;
   double noise_m_per_s2 = 0.0;  // a_x's white-noise RMS estimated from the data

@@ -87,6 +87,15 @@ const struct Subcommand {
      "a recording: the trace plus f_a, and passive vs controlled comfort and effort as a JSON "
      "line; --sweep-gain for the Pareto of comfort against effort",
      make_closed_loop_command},
+    {"plant",
+     "The seat under a recording on a CAN bus: sends its sensors every sample and holds the "
+     "force of the controller's answer over the next step (with stickslip controller); trace and "
+     "JSON as closed-loop's, with the bus's fault counters and pacing",
+     make_plant_command},
+    {"controller",
+     "Observer, controller and actuator on a CAN bus: answers each sample of stickslip plant "
+     "(or of a rig) with an ActuatorCommand frame",
+     make_controller_command},
 };
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {

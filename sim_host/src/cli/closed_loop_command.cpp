@@ -5,6 +5,7 @@
 #include <ostream>
 
 #include "command.hpp"
+#include "loop_options.hpp"
 #include "model_options.hpp"
 #include "recording_options.hpp"
 #include "stickslip/host/cli/cli.hpp"
@@ -33,32 +34,16 @@ class ClosedLoopCommand : public Command {
     model_.add_to(command, request_.setup.plant,
                   "scene file (TOML, docs/scenes/) without end stops; the flags below override it");
     ClosedLoopSetup& s = request_.setup;
-    command.add_option("--controller", controller_,
-                       "passive | skyhook | groundhook | skyhook-semi | groundhook-semi | "
-                       "friction-compensation (default passive)");
-    command.add_option("--gain", s.gain_ns_per_m, "hook gain c, N s/m (default 1500)");
-    command.add_option("--b-min", s.min_damping_ns_per_m,
-                       "semi-active damper's least damping, N s/m (default 0)");
-    command.add_option("--b-max", s.max_damping_ns_per_m,
-                       "semi-active damper's most damping, N s/m (default 3000)");
-    command.add_option("--friction-compensation", s.friction_compensation,
-                       "fraction of the observer's friction estimate fed forward, in [0, 1] "
-                       "(default 0; friction-compensation alone: 0.8)");
-    command.add_option("--force-limit", s.force_limit_n, "actuator force limit, N (default 1000)");
-    command.add_option("--actuator-lag", s.actuator_lag_s,
-                       "actuator first-order lag time constant, s (default 0: ideal)");
-    command.add_option("--observer", observer_,
-                       "estimator (state estimator on the measured a_x, x_r; default) | ideal "
-                       "(the controller reads the plant's own v_r and F_f)");
-    command.add_option("--a-x-noise", s.a_x_noise_m_per_s2,
-                       "seat accelerometer noise, RMS per sample, m/s^2 (default 0)");
-    command.add_option("--x-r-noise", s.x_r_noise_m,
-                       "travel sensor noise, RMS per sample, m (default 0)");
+    controller_options_.add_to(command, s);
     command.add_option("--a-x-resolution", s.a_x_resolution_m_per_s2,
                        "seat accelerometer quantum, m/s^2 (default 0: none)");
     command.add_option("--x-r-resolution", s.x_r_resolution_m,
                        "travel sensor quantum, m (default 0: none)");
     command.add_option("--seed", s.seed, "seed of the sensor noise (default 1)");
+    command.add_flag("--can-resolution", can_resolution_,
+                     "quantise a_u, a_x, x_r and the force as the CAN frames between `stickslip "
+                     "plant` and `stickslip controller` do (overrides --a-x-resolution and "
+                     "--x-r-resolution): the in-process twin of the loop over a bus");
     command.add_option("--sweep-gain", sweep_,
                        "LO:HI:N: N runs with the hook gain from LO to HI (both included); "
                        "--output gets one row per gain");
@@ -79,22 +64,8 @@ class ClosedLoopCommand : public Command {
     }
     request.scene_path = model.scene_path;
     request.scene_dt_s = model.scene_dt_s();
-    if (!parse_controller(controller_, request.setup.controller)) {
-      throw UsageError("--controller " + controller_ + ": expected " +
-                       join_choices(controller_names(), ", ", " or ") +
-                       did_you_mean(controller_, controller_names()));
-    }
-    if (observer_ == "estimator") {
-      request.setup.observer = ObserverKind::estimator;
-    } else if (observer_ == "ideal") {
-      request.setup.observer = ObserverKind::ideal;
-    } else {
-      throw UsageError("--observer " + observer_ + ": expected estimator or ideal");
-    }
-    if (request.setup.controller == ControllerChoice::friction_compensation &&
-        !given(command, "--friction-compensation")) {
-      request.setup.friction_compensation = 0.8;
-    }
+    controller_options_.resolve(command, request.setup);
+    if (can_resolution_) set_can_resolution(request.setup);
     if (!sweep_.empty()) request.sweep = parse_gain_sweep(sweep_);
     const ClosedLoopResult result = closed_loop_file(request);
     print_recording_report(err, request.input_path, result.recording);
@@ -107,9 +78,9 @@ class ClosedLoopCommand : public Command {
   ClosedLoopRequest request_;
   ModelOptions model_{kClosedLoopChoices};
   RecordingOptionGroup recording_;
-  std::string controller_ = "passive";
-  std::string observer_ = "estimator";
+  LoopControllerOptions controller_options_;
   std::string sweep_;
+  bool can_resolution_ = false;
 };
 
 }  // namespace

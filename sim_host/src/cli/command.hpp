@@ -87,5 +87,7 @@ std::unique_ptr<Command> make_advise_command();
 std::unique_ptr<Command> make_inspect_command();
 std::unique_ptr<Command> make_fit_command();
 std::unique_ptr<Command> make_closed_loop_command();
+std::unique_ptr<Command> make_plant_command();
+std::unique_ptr<Command> make_controller_command();
 
 }  // namespace stickslip::host

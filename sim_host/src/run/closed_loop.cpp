@@ -12,6 +12,7 @@
 #include <optional>
 #include <system_error>
 
+#include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/output_file.hpp"
 #include "stickslip/host/run/fit_report.hpp"
 #include "stickslip/host/signals/random.hpp"
@@ -104,7 +105,20 @@ ClosedLoopParams closed_loop_params(const ClosedLoopSetup& setup, double dt_s) {
     p.estimator.travel_noise_m = 3e-5;
   p.seat_acceleration_resolution_m_per_s2 = setup.a_x_resolution_m_per_s2;
   p.travel_resolution_m = setup.x_r_resolution_m;
+  p.floor_acceleration_resolution_m_per_s2 = setup.a_u_resolution_m_per_s2;
+  p.force_resolution_n = setup.force_resolution_n;
   return p;
+}
+
+void set_can_resolution(ClosedLoopSetup& setup) {
+  // Power-of-two quanta: ClosedLoop's rounding equals the codec's quantise + physical exactly.
+  const auto quantum = [](const can::SignalSpec& signal) {
+    return std::ldexp(1.0, -signal.fraction_bits);
+  };
+  setup.a_u_resolution_m_per_s2 = quantum(can::kSeatInput.signals[0]);
+  setup.a_x_resolution_m_per_s2 = quantum(can::kSeatSensors.signals[0]);
+  setup.x_r_resolution_m = quantum(can::kSeatSensors.signals[1]);
+  setup.force_resolution_n = quantum(can::kActuatorCommand.signals[0]);
 }
 
 ControlFigures measure_control(const std::vector<double>& a_u, const SimulationTrace<double>& trace,
@@ -276,14 +290,21 @@ nlohmann::ordered_json figures_json(const ControlFigures& f, bool controlled) {
   return json;
 }
 
-void write_loop_trace(CsvWriter& writer, const SampledSignal& signal,
-                      const ClosedLoopTrace& trace) {
+}  // namespace
+
+std::string control_figures_json(const ControlFigures& figures, bool controlled) {
+  return figures_json(figures, controlled)
+      .dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
+}
+
+void write_loop_trace(CsvWriter& writer, const std::vector<double>& t_s,
+                      const std::vector<double>& a_u, const ClosedLoopTrace& trace) {
   writer.text("t,a_u,x_r,v_r,a_x,f_f,stuck,f_a\n");
   const SimulationTrace<double>& p = trace.plant;
-  for (std::size_t n = 0; n < signal.t_s.size(); ++n) {
-    writer.number(signal.t_s[n]);
+  for (std::size_t n = 0; n < t_s.size(); ++n) {
+    writer.number(t_s[n]);
     writer.separator();
-    writer.number(signal.a_u_m_per_s2[n]);
+    writer.number(a_u[n]);
     writer.separator();
     writer.number(p.x_r_m[n]);
     writer.separator();
@@ -300,6 +321,8 @@ void write_loop_trace(CsvWriter& writer, const SampledSignal& signal,
   }
   writer.flush();
 }
+
+namespace {
 
 // Seat weighted RMS against actuator force RMS, one point per gain (gnuplot, PNG), written under
 // a temporary name and renamed into place.
@@ -437,6 +460,8 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
   json["x_r_noise"] = setup.x_r_noise_m;
   json["a_x_resolution"] = setup.a_x_resolution_m_per_s2;
   json["x_r_resolution"] = setup.x_r_resolution_m;
+  json["a_u_resolution"] = setup.a_u_resolution_m_per_s2;
+  json["force_resolution"] = setup.force_resolution_n;
   json["seed"] = setup.seed;
   json["passive"] = figures_json(passive, false);
 
@@ -454,7 +479,7 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
     const ControlFigures controlled = run(trace);
     json["controlled"] = figures_json(controlled, true);
     json["seat_weighted_rms_ratio"] = controlled.seat_weighted_rms / passive.seat_weighted_rms;
-    write_loop_trace(writer, signal, trace);
+    write_loop_trace(writer, signal.t_s, signal.a_u_m_per_s2, trace);
   } else {
     const std::vector<double> gains = sweep_gains(request.sweep);
     std::vector<ControlFigures> rows;

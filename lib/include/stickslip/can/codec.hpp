@@ -107,9 +107,20 @@ inline constexpr MessageSpec kFrictionEstimate{
     {{"F_fk_est", false, 6, "N"}, {"F_fs_est", false, 6, "N"}},
     {nullptr, nullptr, nullptr, "saturated"}};
 
+// The controller's answer to one sample (`stickslip controller` -> `stickslip plant`, or the
+// user's ECU): f_a, the actuator force to hold over the step after the sample whose counter it
+// carries (1/16 N per bit, +-2047.9 N), and u, the controller's command before the actuator's
+// limit and lag (for the record). "passive" (or f_a not available, 0x8000) asks for no force.
+inline constexpr MessageSpec kActuatorCommand{"ActuatorCommand",
+                                              0x190,
+                                              0x5A90,
+                                              {{"f_a", true, 4, "N"}, {"u", true, 4, "N"}},
+                                              {"passive", nullptr, nullptr, "saturated"}};
+enum CommandFlag : std::uint8_t { kCommandPassive = 1u << 0, kCommandSaturated = 1u << 3 };
+
 inline constexpr const MessageSpec* kMessages[] = {
-    &kSeatInput, &kSeatSensors,  &kSeatMotion,        &kSeatForce,       &kSeatStats,
-    &kSeatScene, &kSeatEstimate, &kSeatEstimateForce, &kFrictionEstimate};
+    &kSeatInput, &kSeatSensors,  &kSeatMotion,        &kSeatForce,        &kSeatStats,
+    &kSeatScene, &kSeatEstimate, &kSeatEstimateForce, &kFrictionEstimate, &kActuatorCommand};
 inline constexpr const MessageSpec* kInputMessages[] = {&kSeatInput, &kSeatSensors};
 inline constexpr const MessageSpec* kOutputMessages[] = {
     &kSeatMotion,   &kSeatForce,         &kSeatStats,       &kSeatScene,
@@ -268,6 +279,23 @@ T quantised_sensor(int signal, T value) noexcept {
 template <typename T>
 T quantised_input(T a_u_m_per_s2) noexcept {
   return physical<T>(kSeatInput.signals[0], quantise(kSeatInput.signals[0], a_u_m_per_s2).word);
+}
+
+// The ActuatorCommand frame answering sample `sample_index`: the force to hold (NaN or
+// passive: no force) and the controller's command (NaN: not available).
+template <typename T>
+Frame make_command_frame(T force_n, T command_n, std::uint64_t sample_index,
+                         bool passive = false) noexcept {
+  const Quantised f = quantise(kActuatorCommand.signals[0], passive ? T(NAN) : force_n);
+  const Quantised u = quantise(kActuatorCommand.signals[1], command_n);
+  Payload payload;
+  payload.sample_counter = static_cast<std::uint16_t>(sample_index & 0xFFFFu);
+  payload.alive_counter = static_cast<std::uint8_t>(sample_index & 0x0Fu);
+  payload.flags = static_cast<std::uint8_t>((passive ? kCommandPassive : 0) |
+                                            (f.saturated || u.saturated ? kCommandSaturated : 0));
+  payload.words[0] = f.word;
+  payload.words[1] = u.word;
+  return make_frame(kActuatorCommand, payload);
 }
 
 // The message with this identifier, or nullptr.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "stickslip/control/closed_loop.hpp"
+#include "stickslip/host/io/output_file.hpp"
 #include "stickslip/host/run/recording_source.hpp"
 #include "stickslip/host/run/simulation.hpp"
 
@@ -41,6 +42,9 @@ struct ClosedLoopSetup {
   // Sensors: white Gaussian noise (RMS per sample) and resolution of a_x and x_r.
   double a_x_noise_m_per_s2 = 0.0, x_r_noise_m = 0.0;
   double a_x_resolution_m_per_s2 = 0.0, x_r_resolution_m = 0.0;
+  // The bus between plant and controller (0: none): a_u as the controller receives it and the
+  // force as the command frame carries it (set_can_resolution()).
+  double a_u_resolution_m_per_s2 = 0.0, force_resolution_n = 0.0;
   std::uint64_t seed = 1;
   // In process only: the user's controller (LoopController::user) instead of `controller`.
   const UserController<double>* user = nullptr;
@@ -48,6 +52,11 @@ struct ClosedLoopSetup {
 
 // The core's loop parameters for a setup at step dt_s (the observer's seat from the plant).
 ClosedLoopParams closed_loop_params(const ClosedLoopSetup& setup, double dt_s);
+
+// The resolutions of the CAN frames between `stickslip plant` and `stickslip controller`
+// (SeatInput a_u, SeatSensors a_x and x_r, ActuatorCommand f_a): the in-process loop with these
+// is the loop over the bus, bit for bit (closed-loop --can-resolution).
+void set_can_resolution(ClosedLoopSetup& setup);
 
 // One row per input sample, as simulate's trace, plus the force held over the step into the row
 // (f_a[0] = 0) and what the controller read and commanded at that sample.
@@ -83,6 +92,13 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
 // The figures of a finished run (the passive one: f_a empty).
 ControlFigures measure_control(const std::vector<double>& a_u, const SimulationTrace<double>& trace,
                                const std::vector<double>& f_a_n, double dt_s);
+
+// The trace CSV t,a_u,x_r,v_r,a_x,f_f,stuck,f_a of a closed-loop run (closed-loop and plant).
+void write_loop_trace(CsvWriter& writer, const std::vector<double>& t_s,
+                      const std::vector<double>& a_u, const ClosedLoopTrace& trace);
+
+// The figures as closed-loop's JSON prints them (controlled: with the force figures).
+std::string control_figures_json(const ControlFigures& figures, bool controlled);
 
 // Gain sweep: `count` gains from `low` to `high` (both included, evenly spaced).
 struct GainSweep {

@@ -1,0 +1,25 @@
+// The controller's options, shared by closed-loop (in process) and controller (over a bus), so
+// that the same flags configure the same ControlUnit. Private to the host library.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+#include "stickslip/host/run/closed_loop.hpp"
+
+namespace stickslip::host {
+
+class LoopControllerOptions {
+ public:
+  void add_to(CLI::App& command, ClosedLoopSetup& setup);
+  // Parses --controller and --observer into `setup`; friction-compensation alone feeds 0.8
+  // forward unless --friction-compensation is given. Throws UsageError.
+  void resolve(const CLI::App& command, ClosedLoopSetup& setup) const;
+
+ private:
+  std::string controller_ = "passive";
+  std::string observer_ = "estimator";
+};
+
+}  // namespace stickslip::host

@@ -34,8 +34,8 @@ namespace {
 std::string lorry(const test::TempDir& dir) {
   const std::string input = dir.file("lorry.csv");
   const test::CliRun run =
-      test::run_stickslip({"generate", "--kind", "lorry", "--rms", "0.6", "--duration", "3",
-                           "--dt", "0.001", "--seed", "3", "--output", input});
+      test::run_stickslip({"generate", "--kind", "lorry", "--rms", "0.6", "--duration", "3", "--dt",
+                           "0.001", "--seed", "3", "--output", input});
   CHECK_EQUAL(0, run.status);
   return input;
 }
@@ -121,7 +121,8 @@ TEST(ClosedLoopBus, LockStepLoopEqualsInProcessLoopWithBusResolutionBitForBit) {
   CHECK_TRUE(expected.size() > 1000);
   CHECK_TRUE(expected == test::read_text(dir.file("bus.csv")));
   // The figures: the same numbers in the same JSON text.
-  const nlohmann::json r = nlohmann::json::parse(reference.json), p = nlohmann::json::parse(bus.plant.json);
+  const nlohmann::json r = nlohmann::json::parse(reference.json),
+                       p = nlohmann::json::parse(bus.plant.json);
   STRCMP_EQUAL(r["controlled"].dump().c_str(), p["controlled"].dump().c_str());
   // The force did act (the comparison is not between two passive runs).
   CHECK_TRUE(r["controlled"]["force_rms"].get<double>() > 1.0);
@@ -264,8 +265,11 @@ namespace {
 // The loopback bus that fails (as SocketCAN's ENETDOWN) from the k-th send on.
 class FailingTransport final : public port::Transport {
  public:
-  FailingTransport(port::Transport& inner, std::uint64_t fail_from) : inner_(inner), fail_from_(fail_from) {}
-  port::TransportStatus open(const std::string& name) noexcept override { return inner_.open(name); }
+  FailingTransport(port::Transport& inner, std::uint64_t fail_from)
+      : inner_(inner), fail_from_(fail_from) {}
+  port::TransportStatus open(const std::string& name) noexcept override {
+    return inner_.open(name);
+  }
   port::TransportStatus set_filters(const port::ReceiveFilter* f, std::size_t n) noexcept override {
     return inner_.set_filters(f, n);
   }

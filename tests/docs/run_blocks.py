@@ -515,6 +515,10 @@ def run_json_keys(args):
         failures.append("keys in sim_host/README.md's table that no run printed: " +
                         ", ".join(missing))
     failures += check_ecu_keys(os.path.abspath(args.source))
+    for node in ("plant", "controller"):
+        failures += check_writer_keys(os.path.abspath(args.source), node,
+                                      os.path.join("sim_host", "src", "bus", "control_nodes.cpp"),
+                                      f"{node}_json")
     failures += check_closed_loop_keys(os.path.abspath(args.source), run)
     for failure in failures:
         print(f"FAILED: {failure}")
@@ -579,6 +583,30 @@ def check_ecu_keys(source):
         failures.append("keys in sim_host/README.md's ecu table that ecu_json() never sets: " +
                         ", ".join(sorted(set(documented) - written)))
     print(f"ecu: {len(written)} keys in ecu_json(), {len(documented)} documented")
+    return failures
+
+
+def check_writer_keys(source, table, relative_path, function):
+    """A command that needs a CAN interface (plant, controller): its table (after
+    `<!-- docs-test: json-keys TABLE -->`) against the keys its JSON writer FUNCTION sets."""
+    documented = documented_keys(source, (table,))
+    path = os.path.join(source, relative_path)
+    if not os.path.isfile(path):
+        return [f"{path}: missing, so the {table} keys cannot be read"]
+    with open(path, encoding="utf-8") as handle:
+        code = handle.read()
+    body = re.search(r"\nstd::string " + re.escape(function) + r"\(.*?\n}\n", code, flags=re.S)
+    if body is None:
+        return [f"{path}: no {function}() to read the {table} keys from"]
+    written = set(re.findall(r'json\["([A-Za-z0-9_.]+)"\]', body.group(0)))
+    failures = []
+    if written - set(documented):
+        failures.append(f"{table} keys set by {function}() but not in sim_host/README.md's {table} "
+                        "table: " + ", ".join(sorted(written - set(documented))))
+    if set(documented) - written:
+        failures.append(f"keys in sim_host/README.md's {table} table that {function}() never "
+                        "sets: " + ", ".join(sorted(set(documented) - written)))
+    print(f"{table}: {len(written)} keys in {function}(), {len(documented)} documented")
     return failures
 
 

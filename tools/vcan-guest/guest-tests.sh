@@ -141,6 +141,61 @@ canplayer_to_ecu() {
 }
 check "canplayer (log from stickslip record) -> stickslip ecu --bus $iface == offline" canplayer_to_ecu
 
+# The closed loop over the bus: stickslip plant and stickslip controller as two processes on
+# $iface. Lock-step (--pace max), the trace equals closed-loop --can-resolution in process byte
+# for byte, and so do the figures; then one real-time paced run prints its pacing report.
+loop_duration="${VCAN_LOOP_DURATION_S:-3}"
+loop_samples=$(awk "BEGIN { printf \"%d\", $loop_duration / 0.001 + 1.5 }")
+loop_seat="--model stick-slip --ffk 40 --ffs 55"
+loop_sensors="--a-x-noise 0.02 --x-r-noise 1e-4"
+loop_law="--controller skyhook --gain 1500 --actuator-lag 0.005"
+start_controller() {  # start_controller NAME: the controller in the background, listening
+  before=$(receivers)
+  timeout 300 stickslip controller --bus "$iface" $loop_seat $loop_sensors $loop_law --idle-exit 1 \
+      > "$out/$1-controller.txt" 2> "$out/$1-controller.err" &
+  controller=$!
+  wait_for_receivers_above "$before"
+}
+closed_loop_lock_step() {
+  timeout 60 stickslip generate --kind lorry --rms 0.6 --duration "$loop_duration" --dt 0.001 --seed 3 \
+      --output "$out/loop-in.csv" >/dev/null &&
+    timeout 120 stickslip closed-loop --input "$out/loop-in.csv" --output "$out/loop-in-process.csv" \
+      --can-resolution $loop_seat $loop_sensors $loop_law --seed 7 > "$out/loop-in-process.txt" || return 1
+  start_controller loop || return 1
+  timeout 300 stickslip plant --bus "$iface" --pace max --input "$out/loop-in.csv" \
+      --output "$out/loop-vcan.csv" $loop_seat $loop_sensors --seed 7 > "$out/loop-plant.txt" ||
+    { echo "  plant exited with $?"; kill "$controller"; return 1; }
+  wait "$controller" || { echo "  controller exited with $?"; cat "$out/loop-controller.err"; return 1; }
+  tail -n 1 "$out/loop-plant.txt" > "$out/loop-plant.json"
+  tail -n 1 "$out/loop-controller.txt" > "$out/loop-controller.json"
+  grep -o '"controlled":{[^}]*}' "$out/loop-in-process.txt" > "$out/loop-figures-in-process.txt"
+  grep -o '"controlled":{[^}]*}' "$out/loop-plant.json" > "$out/loop-figures-vcan.txt"
+  echo "  $(cat "$out/loop-figures-vcan.txt")"
+  expect "$out/loop-plant.json" commands_applied $((loop_samples - 1)) &&
+    expect "$out/loop-plant.json" commands_missing 0 && expect "$out/loop-plant.json" commands_late 0 &&
+    expect "$out/loop-controller.json" answered "$loop_samples" &&
+    expect "$out/loop-controller.json" sample_gaps 0 &&
+    same_file "$out/loop-vcan.csv" "$out/loop-in-process.csv" &&
+    same_file "$out/loop-figures-vcan.txt" "$out/loop-figures-in-process.txt"
+}
+check "closed loop: stickslip plant + controller on $iface (--pace max) == closed-loop --can-resolution, byte for byte" closed_loop_lock_step
+closed_loop_realtime() {
+  start_controller loop-rt || return 1
+  timeout 300 stickslip plant --bus "$iface" --pace realtime --input "$out/loop-in.csv" \
+      --output "$out/loop-rt.csv" $loop_seat $loop_sensors --seed 7 > "$out/loop-rt.txt" 2> "$out/loop-rt.err" ||
+    { echo "  plant exited with $?"; cat "$out/loop-rt.err"; kill "$controller"; return 1; }
+  wait "$controller" || { echo "  controller exited with $?"; return 1; }
+  tail -n 1 "$out/loop-rt.txt" > "$out/loop-rt.json"
+  grep "^plant: paced" "$out/loop-rt.err" | sed 's/^/  /'
+  applied=$(counter commands_applied "$out/loop-rt.json") missing=$(counter commands_missing "$out/loop-rt.json")
+  echo "  answers applied $applied, missing $missing, late $(counter commands_late "$out/loop-rt.json")," \
+       "held $(counter held_frames "$out/loop-rt.json"), failsafe $(counter failsafe_frames "$out/loop-rt.json")"
+  grep -q "^plant: paced $((loop_samples - 1)) ticks" "$out/loop-rt.err" &&
+    expect "$out/loop-rt.json" ticks $((loop_samples - 1)) &&
+    [ $((applied + missing)) -eq $((loop_samples - 1)) ]
+}
+check "closed loop: stickslip plant --pace realtime on $iface reports its pacing (median/99.9 %/worst lateness, misses)" closed_loop_realtime
+
 # The node on a silent bus: it says what it waits for, stops at --timeout by itself (not by the
 # outer `timeout`) with status 0, and prints its statistics with no sample taken.
 ecu_timeout_on_a_silent_bus() {

@@ -4,7 +4,8 @@
 # Environment: VCAN_DURATION_S (recording replayed over vcan0, default 10 s), VCAN_FULL_DURATION_S
 # (the full recording replayed by stickslip replay over vcan0, default 120 s), VCAN_BURST_S
 # (cangen burst, default 10 s), VCAN_LOAD_DURATION_S / VCAN_LOAD_SPEED (the load and fault test:
-# recording length, default 65 s, played at default 3x), VCAN_ONLY (only the checks whose name
+# recording length, default 65 s, played at default 3x), VCAN_LOOP_DURATION_S (the recording of the
+# closed loop over vcan0, plant + controller, default 3 s), VCAN_ONLY (only the checks whose name
 # contains it), VCAN_QEMU_TIMEOUT (default 600 s).
 # Where this host has vcan0 up, runs guest-tests.sh natively. Otherwise builds the guest
 # (build-initramfs.sh, cached in DIR) and boots it with qemu-system-x86_64 under TCG; the guest
@@ -61,7 +62,7 @@ echo "vcan: guest built after $(elapsed) s; booting (TCG, timeout ${qemu_timeout
 # Settings for guest-tests.sh: the kernel hands unknown name=value arguments to /init as
 # environment variables.
 guest_environment=""
-for name in VCAN_DURATION_S VCAN_FULL_DURATION_S VCAN_BURST_S VCAN_LOAD_DURATION_S VCAN_LOAD_SPEED VCAN_ONLY; do
+for name in VCAN_DURATION_S VCAN_FULL_DURATION_S VCAN_BURST_S VCAN_LOAD_DURATION_S VCAN_LOAD_SPEED VCAN_LOOP_DURATION_S VCAN_ONLY; do
   [ -n "${!name:-}" ] && guest_environment+=" $name=${!name}"
 done
 kernel="$work/vmlinuz"

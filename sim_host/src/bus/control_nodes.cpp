@@ -1,8 +1,8 @@
 #include "stickslip/host/bus/control_nodes.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <time.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -73,17 +73,74 @@ PacingReport pacing_report(std::vector<double> lateness_s, double dt_s) {
   return report;
 }
 
+// The plant's JSON line (its keys: sim_host/README.md, checked by tests/docs/run_blocks.py).
+std::string plant_json(const PlantNodeRequest& request, const PlantNodeResult& r,
+                       std::size_t count) {
+  nlohmann::ordered_json json;
+  json["node"] = "plant";
+  json["bus"] = request.bus;
+  json["pace"] = request.pace == Pace::realtime ? "realtime" : "max";
+  json["samples"] = count;
+  json["dt"] = r.dt_s;
+  json["hold_frames"] = request.hold_frames;
+  json["command_timeout"] = request.command_timeout_s;
+  json["state"] = r.state;
+  json["commands_applied"] = r.counters.commands_applied;
+  json["commands_passive"] = r.counters.commands_passive;
+  json["commands_missing"] = r.counters.commands_missing;
+  json["commands_late"] = r.counters.commands_late;
+  json["commands_corrupt"] = r.counters.commands_corrupt;
+  json["held_frames"] = r.counters.held_frames;
+  json["failsafe_frames"] = r.counters.failsafe_frames;
+  json["bus_down_frames"] = r.counters.bus_down_frames;
+  json["first_failsafe_sample"] = r.counters.first_failsafe_sample;
+  json["bus_down_sample"] = r.counters.bus_down_sample;
+  json["controlled"] = nlohmann::ordered_json::parse(control_figures_json(r.figures, true));
+  if (request.pace == Pace::realtime) {
+    nlohmann::ordered_json pacing;
+    pacing["ticks"] = r.pacing.ticks;
+    pacing["deadline_misses"] = r.pacing.deadline_misses;
+    pacing["lateness_median"] = r.pacing.lateness_median_s;
+    pacing["lateness_p999"] = r.pacing.lateness_p999_s;
+    pacing["lateness_worst"] = r.pacing.lateness_worst_s;
+    json["pacing"] = pacing;
+  }
+  json["input"] = request.input_path;
+  json["output"] = request.output_path;
+  return dump(json);
+}
+
+// The controller's JSON line (its keys: sim_host/README.md, checked by tests/docs/run_blocks.py).
+std::string controller_json(const ControllerNodeRequest& request, const ClosedLoopSetup& setup,
+                            const ControllerNodeResult& r) {
+  nlohmann::ordered_json json;
+  json["node"] = "controller";
+  json["bus"] = request.bus;
+  json["controller"] = controller_name(setup.controller);
+  json["dt"] = setup.plant.params.dt_s;
+  json["samples"] = r.samples;
+  json["answered"] = r.answered;
+  json["dropped"] = r.dropped;
+  json["silenced"] = r.silenced;
+  json["corrupt_frames"] = r.corrupt_frames;
+  json["sample_gaps"] = r.sample_gaps;
+  json["restarts"] = r.restarts;
+  json["send_failures"] = r.send_failures;
+  json["state"] = r.bus_error.empty() ? "ok" : "bus_down";
+  return dump(json);
+}
+
 }  // namespace
 
 PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
   if (request.hold_frames < 0)
     throw UsageError(fmt::format("--hold-frames: must be >= 0, got {}", request.hold_frames));
   if (!(request.command_timeout_s > 0.0 && std::isfinite(request.command_timeout_s)))
-    throw UsageError(fmt::format("--command-timeout: must be > 0 s, got {}",
-                                 request.command_timeout_s));
+    throw UsageError(
+        fmt::format("--command-timeout: must be > 0 s, got {}", request.command_timeout_s));
   if (!(request.connect_timeout_s > 0.0 && std::isfinite(request.connect_timeout_s)))
-    throw UsageError(fmt::format("--connect-timeout: must be > 0 s, got {}",
-                                 request.connect_timeout_s));
+    throw UsageError(
+        fmt::format("--connect-timeout: must be > 0 s, got {}", request.connect_timeout_s));
   if (request.setup.plant.effects & kEndStops) {
     throw UsageError(
         "--scene: the plant runs the seat model without end stops (the end-stop model has no "
@@ -113,7 +170,8 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
   setup.plant.params.dt_s = dt_s;
   LoopSensors<double> sensors;
   ConfigResult configured = sensors.configure(closed_loop_params(setup, dt_s));
-  if (!configured.ok()) throw UsageError(fmt::format("invalid parameters: {}", configured.message.c_str()));
+  if (!configured.ok())
+    throw UsageError(fmt::format("invalid parameters: {}", configured.message.c_str()));
 
   std::unique_ptr<port::Transport> owned;
   port::Transport* bus = request.transport;
@@ -154,9 +212,9 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
     if (bus_down) return;
     bus_down = true;
     counters.bus_down_sample = n;
-    result.bus_message = fmt::format(
-        "plant: the bus {} failed at sample {} ({}): passive (f_a = 0) from here on",
-        request.bus, n, port::transport_status_name(status));
+    result.bus_message =
+        fmt::format("plant: the bus {} failed at sample {} ({}): passive (f_a = 0) from here on",
+                    request.bus, n, port::transport_status_name(status));
   };
   const auto send_sample = [&](std::uint64_t n, double a_u_n, double a_x_n, double x_r_n) {
     if (bus_down) return;
@@ -191,7 +249,8 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
         ++counters.commands_late;
         continue;
       }
-      const double force = can::physical<double>(can::kActuatorCommand.signals[0], payload.words[0]);
+      const double force =
+          can::physical<double>(can::kActuatorCommand.signals[0], payload.words[0]);
       answer.received = true;
       answer.passive = (payload.flags & can::kCommandPassive) != 0 || std::isnan(force);
       answer.force_n = answer.passive ? 0.0 : force;
@@ -250,8 +309,8 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
     while (!first.received && !bus_down && Clock::now() < connect_deadline) {
       send_sample(0, a_u[0], sensors.a_x(plant.a_x_m_per_s2[0], 0.0),
                   sensors.x_r(plant.x_r_m[0], 0.0));
-      first = await_answer(0, std::min(Clock::now() + std::chrono::milliseconds(100),
-                                       connect_deadline));
+      first = await_answer(
+          0, std::min(Clock::now() + std::chrono::milliseconds(100), connect_deadline));
     }
     if (!first.received && !bus_down) {
       throw HostError(fmt::format(
@@ -282,7 +341,8 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
       // Lock-step: the answer to this sample before the next step (none needed after the last).
       if (!realtime && n + 1 < count) {
         const bool failing_safe = missing_run > request.hold_frames;
-        force_n = decide(n, await_answer(n, Clock::now() + (failing_safe ? failsafe_wait : timeout)));
+        force_n =
+            decide(n, await_answer(n, Clock::now() + (failing_safe ? failsafe_wait : timeout)));
       }
     }
   });
@@ -291,38 +351,7 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
   result.pacing = pacing_report(std::move(lateness_s), dt_s);
   result.state = bus_down ? "bus_down" : (missing_run > request.hold_frames ? "failsafe" : "ok");
 
-  nlohmann::ordered_json json;
-  json["node"] = "plant";
-  json["bus"] = request.bus;
-  json["pace"] = realtime ? "realtime" : "max";
-  json["samples"] = count;
-  json["dt"] = dt_s;
-  json["hold_frames"] = request.hold_frames;
-  json["command_timeout"] = request.command_timeout_s;
-  json["state"] = result.state;
-  json["commands_applied"] = counters.commands_applied;
-  json["commands_passive"] = counters.commands_passive;
-  json["commands_missing"] = counters.commands_missing;
-  json["commands_late"] = counters.commands_late;
-  json["commands_corrupt"] = counters.commands_corrupt;
-  json["held_frames"] = counters.held_frames;
-  json["failsafe_frames"] = counters.failsafe_frames;
-  json["bus_down_frames"] = counters.bus_down_frames;
-  json["first_failsafe_sample"] = counters.first_failsafe_sample;
-  json["bus_down_sample"] = counters.bus_down_sample;
-  json["controlled"] = nlohmann::ordered_json::parse(control_figures_json(result.figures, true));
-  if (realtime) {
-    nlohmann::ordered_json pacing;
-    pacing["ticks"] = result.pacing.ticks;
-    pacing["deadline_misses"] = result.pacing.deadline_misses;
-    pacing["lateness_median"] = result.pacing.lateness_median_s;
-    pacing["lateness_p999"] = result.pacing.lateness_p999_s;
-    pacing["lateness_worst"] = result.pacing.lateness_worst_s;
-    json["pacing"] = pacing;
-  }
-  json["input"] = request.input_path;
-  json["output"] = request.output_path;
-  result.json = dump(json);
+  result.json = plant_json(request, result, count);
 
   CsvWriter writer(output);
   write_loop_trace(writer, signal.t_s, a_u, trace);
@@ -346,12 +375,11 @@ ControllerNodeResult run_controller_node(const ControllerNodeRequest& request) {
         "--observer ideal: over a bus the controller has only the frames' sensors; use the "
         "estimator");
   }
-  const double force_range_n =
-      std::ldexp(static_cast<double>(can::kSignedMax), -can::kActuatorCommand.signals[0].fraction_bits);
+  const double force_range_n = std::ldexp(static_cast<double>(can::kSignedMax),
+                                          -can::kActuatorCommand.signals[0].fraction_bits);
   if (setup.force_limit_n > force_range_n) {
-    throw UsageError(fmt::format(
-        "--force-limit {}: the ActuatorCommand frame carries at most {} N", setup.force_limit_n,
-        force_range_n));
+    throw UsageError(fmt::format("--force-limit {}: the ActuatorCommand frame carries at most {} N",
+                                 setup.force_limit_n, force_range_n));
   }
   if (!(request.idle_exit_s > 0.0 && std::isfinite(request.idle_exit_s)))
     throw UsageError(fmt::format("--idle-exit: must be > 0 s, got {}", request.idle_exit_s));
@@ -405,8 +433,8 @@ ControllerNodeResult run_controller_node(const ControllerNodeRequest& request) {
       const double idle_s = std::chrono::duration<double>(Clock::now() - last_frame).count();
       if (started && idle_s >= request.idle_exit_s) break;
       if (!started && request.first_sample_s > 0.0 && idle_s >= request.first_sample_s) {
-        throw HostError(fmt::format("--bus {}: no sample within {} s", request.bus,
-                                    request.first_sample_s));
+        throw HostError(
+            fmt::format("--bus {}: no sample within {} s", request.bus, request.first_sample_s));
       }
       continue;
     }
@@ -454,22 +482,8 @@ ControllerNodeResult run_controller_node(const ControllerNodeRequest& request) {
     const UnitSample<double> sample = unit.step(a_u, a_x, x_r, unit.force_n());
     answer(last_n, sample.next_force_n, sample.command_n);
   }
-  nlohmann::ordered_json json;
-  json["node"] = "controller";
-  json["bus"] = request.bus;
-  json["controller"] = controller_name(setup.controller);
-  json["dt"] = dt_s;
-  json["samples"] = result.samples;
-  json["answered"] = result.answered;
-  json["dropped"] = result.dropped;
-  json["silenced"] = result.silenced;
-  json["corrupt_frames"] = result.corrupt_frames;
-  json["sample_gaps"] = result.sample_gaps;
-  json["restarts"] = result.restarts;
-  json["send_failures"] = result.send_failures;
-  json["state"] = bus_error.empty() ? "ok" : "bus_down";
-  result.json = dump(json);
   result.bus_error = bus_error;
+  result.json = controller_json(request, setup, result);
   return result;
 }
 

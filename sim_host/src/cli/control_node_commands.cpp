@@ -32,8 +32,9 @@ class PlantCommand : public Command {
  public:
   void add_options(CLI::App& command) override {
     command
-        .add_option("--input", request_.input_path,
-                    "cab-floor recording: CSV t,a_u, a logger's text, .mat, or a CAN log with --dbc")
+        .add_option(
+            "--input", request_.input_path,
+            "cab-floor recording: CSV t,a_u, a logger's text, .mat, or a CAN log with --dbc")
         ->required();
     command
         .add_option("--output", request_.output_path,
@@ -69,8 +70,8 @@ class PlantCommand : public Command {
     request.recording = recording_.resolve();
     const ResolvedModel model = model_.resolve(command, request.setup.plant);
     if (model.scalar != ScalarType::float64)
-      throw UsageError(fmt::format("--scalar {}: the plant runs in double",
-                                   scalar_name(model.scalar)));
+      throw UsageError(
+          fmt::format("--scalar {}: the plant runs in double", scalar_name(model.scalar)));
     request.scene_path = model.scene_path;
     request.scene_dt_s = model.scene_dt_s();
     if (pace_ == "max") {
@@ -133,8 +134,8 @@ class ControllerCommand : public Command {
     ControllerNodeRequest request = request_;
     const ResolvedModel model = model_.resolve(command, request.setup.plant);
     if (model.scalar != ScalarType::float64)
-      throw UsageError(fmt::format("--scalar {}: the controller runs in double",
-                                   scalar_name(model.scalar)));
+      throw UsageError(
+          fmt::format("--scalar {}: the controller runs in double", scalar_name(model.scalar)));
     if (model.scene_dt_s() > 0.0 && !given(command, "--dt"))
       request.setup.plant.params.dt_s = model.scene_dt_s();
     controller_options_.resolve(command, request.setup);

@@ -41,14 +41,14 @@ struct PlantNodeRequest {
 };
 
 struct PlantCounters {
-  std::uint64_t commands_applied = 0;   // answers in time, force applied
-  std::uint64_t commands_passive = 0;   // of those, answers asking for no force
-  std::uint64_t commands_missing = 0;   // samples whose answer did not come in time
-  std::uint64_t commands_late = 0;      // answers that came after their sample's step (ignored)
-  std::uint64_t commands_corrupt = 0;   // CRC errors, wrong length (ignored)
-  std::uint64_t held_frames = 0;        // steps under the held last force
-  std::uint64_t failsafe_frames = 0;    // steps passive because answers were missing
-  std::uint64_t bus_down_frames = 0;    // steps passive because the bus was down
+  std::uint64_t commands_applied = 0;       // answers in time, force applied
+  std::uint64_t commands_passive = 0;       // of those, answers asking for no force
+  std::uint64_t commands_missing = 0;       // samples whose answer did not come in time
+  std::uint64_t commands_late = 0;          // answers that came after their sample's step (ignored)
+  std::uint64_t commands_corrupt = 0;       // CRC errors, wrong length (ignored)
+  std::uint64_t held_frames = 0;            // steps under the held last force
+  std::uint64_t failsafe_frames = 0;        // steps passive because answers were missing
+  std::uint64_t bus_down_frames = 0;        // steps passive because the bus was down
   std::uint64_t first_failsafe_sample = 0;  // 0: none
   std::uint64_t bus_down_sample = 0;        // 0: the bus stayed up
 };
@@ -76,8 +76,8 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request);
 struct ControllerNodeRequest {
   ClosedLoopSetup setup;  // controller, actuator, the seat the observer assumes
   std::string bus = "loopback";
-  double idle_exit_s = 2.0;       // exit after this long without a sample (once one came)
-  double first_sample_s = 0.0;    // wait this long for the first sample (0: without limit)
+  double idle_exit_s = 2.0;     // exit after this long without a sample (once one came)
+  double first_sample_s = 0.0;  // wait this long for the first sample (0: without limit)
   // Fault injection (tests, docs): drop every k-th answer (0: none), stop answering from this
   // sample time on (< 0: never).
   std::uint64_t drop_every = 0;

@@ -102,15 +102,15 @@ TEST(Cli, UsageErrorsAreOneLineWithStatusTwo) {
   LONGS_EQUAL(2, none.status);
   STRCMP_EQUAL(
       "stickslip: a subcommand is required: generate, simulate, demo, replay, ecu, record, play, "
-      "sweep, merge, psd, harmonic-balance, advise, inspect, fit or closed-loop (stickslip --help "
-      "describes them; stickslip SUBCOMMAND --help its options)\n",
+      "sweep, merge, psd, harmonic-balance, advise, inspect, fit, closed-loop, plant or controller "
+      "(stickslip --help describes them; stickslip SUBCOMMAND --help its options)\n",
       none.err.c_str());
   const CliRun unknown = run_stickslip({"simulat"});
   LONGS_EQUAL(2, unknown.status);
   STRCMP_EQUAL(
       "stickslip: unknown subcommand 'simulat' (did you mean simulate?); expected generate, "
       "simulate, demo, replay, ecu, record, play, sweep, merge, psd, harmonic-balance, advise, "
-      "inspect, fit or closed-loop (see stickslip --help)\n",
+      "inspect, fit, closed-loop, plant or controller (see stickslip --help)\n",
       unknown.err.c_str());
   const CliRun flag = run_stickslip({"--verbose"});
   LONGS_EQUAL(2, flag.status);

@@ -320,3 +320,28 @@ TEST(ClosedLoopBus, ABusThatGoesDownLeavesThePlantPassiveAndSaysSo) {
   for (std::size_t n = 1001; n < f_a.size(); ++n) CHECK_TRUE(f_a[n] == 0.0);
   CHECK_EQUAL(1000u, answered.answered);
 }
+
+TEST(ClosedLoopBus, RealTimePacingReportsEveryTickAndAccountsForEveryStep) {
+  // Timing itself depends on the machine (docs/CONTROL.md quotes the vcan guest's); what holds
+  // everywhere: one lateness per tick, ordered statistics, and every step's answer applied or
+  // counted missing.
+  test::TempDir dir;
+  const std::string input = lorry(dir);
+  ClosedLoopSetup setup = skyhook_setup();
+  setup.plant.params.dt_s = 1e-3;
+  PlantNodeRequest plant;
+  plant.pace = Pace::realtime;
+  const BusRun bus = run_over_bus(setup, input, dir.file("rt.csv"), {}, plant);
+  const std::uint64_t steps = test::read_table(dir.file("rt.csv")).rows.size() - 1;
+  CHECK_EQUAL(steps, bus.plant.pacing.ticks);
+  CHECK_TRUE(bus.plant.pacing.lateness_median_s >= 0.0);
+  CHECK_TRUE(bus.plant.pacing.lateness_median_s <= bus.plant.pacing.lateness_p999_s);
+  CHECK_TRUE(bus.plant.pacing.lateness_p999_s <= bus.plant.pacing.lateness_worst_s);
+  CHECK_TRUE(bus.plant.pacing.deadline_misses <= steps);
+  CHECK_EQUAL(steps, bus.plant.counters.commands_applied + bus.plant.counters.commands_missing);
+  CHECK_EQUAL(bus.plant.counters.commands_missing,
+              bus.plant.counters.held_frames + bus.plant.counters.failsafe_frames);
+  const nlohmann::json json = nlohmann::json::parse(bus.plant.json);
+  STRCMP_EQUAL("realtime", json["pace"].get<std::string>().c_str());
+  CHECK_EQUAL(steps, json["pacing"]["ticks"].get<std::uint64_t>());
+}

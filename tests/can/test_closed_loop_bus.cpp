@@ -345,3 +345,25 @@ TEST(ClosedLoopBus, RealTimePacingReportsEveryTickAndAccountsForEveryStep) {
   STRCMP_EQUAL("realtime", json["pace"].get<std::string>().c_str());
   CHECK_EQUAL(steps, json["pacing"]["ticks"].get<std::uint64_t>());
 }
+
+TEST(ClosedLoopBus, PlantAndControllerRefuseWhatTheBusCannotDoInOneLine) {
+  const auto refused = [](const std::vector<std::string>& arguments, const char* why) {
+    const test::CliRun run = test::run_stickslip(arguments);
+    CHECK_EQUAL(2, run.status);
+    CHECK_EQUAL(1u, test::split_lines(run.err).size());
+    STRCMP_CONTAINS(why, run.err.c_str());
+    CHECK_TRUE(run.out.empty());
+  };
+  refused({"controller", "--bus", "vcan0", "--model", "stick-slip", "--observer", "ideal"},
+          "--observer ideal: over a bus the controller has only the frames' sensors");
+  refused({"controller", "--bus", "vcan0", "--model", "stick-slip", "--force-limit", "3000"},
+          "--force-limit 3000: the ActuatorCommand frame carries at most 2047.9375 N");
+  refused({"controller", "--bus", "loopback", "--model", "stick-slip"},
+          "--bus loopback: controller would wait forever");
+  refused({"plant", "--bus", "loopback", "--input", "in.csv", "--output", "out.csv", "--model",
+           "stick-slip"},
+          "--bus loopback: plant would wait forever");
+  refused({"plant", "--bus", "vcan0", "--input", "in.csv", "--output", "out.csv", "--model",
+           "stick-slip", "--pace", "fast"},
+          "--pace fast: expected max or realtime");
+}

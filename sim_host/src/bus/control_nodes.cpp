@@ -400,6 +400,7 @@ ControllerNodeResult run_controller_node(const ControllerNodeRequest& request) {
   const port::ReceiveFilter filters[] = {{can::kSeatSensors.id, 0x7FFu},
                                          {can::kSeatInput.id, 0x7FFu}};
   bus->set_filters(filters, 2);
+  if (request.listening) request.listening();
 
   ControllerNodeResult result;
   bool started = false, have_sensors = false;

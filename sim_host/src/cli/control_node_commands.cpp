@@ -141,8 +141,11 @@ class ControllerCommand : public Command {
     controller_options_.resolve(command, request.setup);
     const StopOnSignals signals;
     request.stop_requested = [] { return stop_requested != 0; };
-    err << fmt::format("controller: answering samples on {} (SIGINT or SIGTERM stops)\n",
-                       request.bus);
+    request.listening = [&err, &request] {
+      err << fmt::format("controller: answering samples on {} (SIGINT or SIGTERM stops)\n",
+                         request.bus);
+      err.flush();
+    };
     const ControllerNodeResult result = run_controller_node(request);
     out << result.json << "\n";
     if (!result.bus_error.empty()) throw HostError(result.bus_error);

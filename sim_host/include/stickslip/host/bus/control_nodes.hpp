@@ -84,6 +84,7 @@ struct ControllerNodeRequest {
   double stop_after_s = -1.0;
   port::Transport* transport = nullptr;  // tests: an open endpoint
   std::function<bool()> stop_requested;  // e.g. SIGINT/SIGTERM
+  std::function<void()> listening;       // called once the bus is open and filtered
 };
 
 struct ControllerNodeResult {

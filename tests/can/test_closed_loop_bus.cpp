@@ -250,6 +250,7 @@ TEST(ClosedLoopBus, AControllerThatStopsAnsweringLeavesThePlantFailingSafeEveryF
   CHECK_EQUAL(5u, bus.plant.counters.held_frames);
   CHECK_EQUAL(missing - 5, bus.plant.counters.failsafe_frames);
   CHECK_EQUAL(2005u, bus.plant.counters.first_failsafe_sample);
+  CHECK_EQUAL(2005u, bus.plant.counters.last_failsafe_sample);
   STRCMP_EQUAL("failsafe", bus.plant.state.c_str());
   CHECK_EQUAL(samples - 2000, bus.controller.silenced);
   const std::vector<double> oracle =

@@ -94,6 +94,7 @@ std::string plant_json(const PlantNodeRequest& request, const PlantNodeResult& r
   json["failsafe_frames"] = r.counters.failsafe_frames;
   json["bus_down_frames"] = r.counters.bus_down_frames;
   json["first_failsafe_sample"] = r.counters.first_failsafe_sample;
+  json["last_failsafe_sample"] = r.counters.last_failsafe_sample;
   json["bus_down_sample"] = r.counters.bus_down_sample;
   json["controlled"] = nlohmann::ordered_json::parse(control_figures_json(r.figures, true));
   if (request.pace == Pace::realtime) {
@@ -279,8 +280,11 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
       ++counters.held_frames;
       return last_force_n;
     }
+    if (missing_run == request.hold_frames) {
+      counters.last_failsafe_sample = n;
+      if (counters.first_failsafe_sample == 0) counters.first_failsafe_sample = n;
+    }
     missing_run = request.hold_frames + 1;
-    if (counters.first_failsafe_sample == 0) counters.first_failsafe_sample = n;
     ++counters.failsafe_frames;
     return 0.0;
   };

@@ -86,8 +86,9 @@ class PlantCommand : public Command {
     if (!result.bus_message.empty()) err << result.bus_message << "\n";
     if (result.state == "failsafe") {
       err << fmt::format(
-          "plant: the controller stopped answering: failing safe (f_a = 0) since sample {}\n",
-          result.counters.first_failsafe_sample);
+          "plant: no answers at the end: failing safe (f_a = 0) since sample {} ({} steps failed "
+          "safe in all)\n",
+          result.counters.last_failsafe_sample, result.counters.failsafe_frames);
     }
     if (request.pace == Pace::realtime) {
       const PacingReport& p = result.pacing;

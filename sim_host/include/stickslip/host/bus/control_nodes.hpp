@@ -50,6 +50,7 @@ struct PlantCounters {
   std::uint64_t failsafe_frames = 0;        // steps passive because answers were missing
   std::uint64_t bus_down_frames = 0;        // steps passive because the bus was down
   std::uint64_t first_failsafe_sample = 0;  // 0: none
+  std::uint64_t last_failsafe_sample = 0;   // where the last run of fail-safe steps began
   std::uint64_t bus_down_sample = 0;        // 0: the bus stayed up
 };
 

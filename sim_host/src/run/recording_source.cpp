@@ -172,8 +172,11 @@ LoadedRecording read_recording(const std::string& path, const RecordingOptions& 
     throw UsageError("--time and --rate: give one of them");
   if (!options.unit.empty()) {
     double factor = 0;
-    if (!acceleration_unit_factor(options.unit, factor))
-      throw UsageError("--unit: '" + options.unit + "' is not g, m/s^2 or mm/s^2");
+    if (!unit_factor(options.quantity, options.unit, factor)) {
+      throw UsageError(options.quantity == Quantity::length
+                           ? "travel unit: '" + options.unit + "' is not m, mm, cm or um"
+                           : "--unit: '" + options.unit + "' is not g, m/s^2 or mm/s^2");
+    }
   }
   LoadedRecording loaded;
   RawSeries raw;
@@ -234,6 +237,27 @@ bool acceleration_unit_factor(const std::string& unit, double& factor) {
     return false;
   }
   return true;
+}
+
+bool length_unit_factor(const std::string& unit, double& factor) {
+  const std::string u = lower(unit);
+  if (u.empty() || u == "m") {
+    factor = 1.0;
+  } else if (u == "mm") {
+    factor = 1e-3;
+  } else if (u == "cm") {
+    factor = 1e-2;
+  } else if (u == "um" || u == "\xc2\xb5m" || u == "\xce\xbcm") {
+    factor = 1e-6;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool unit_factor(Quantity quantity, const std::string& unit, double& factor) {
+  return quantity == Quantity::length ? length_unit_factor(unit, factor)
+                                      : acceleration_unit_factor(unit, factor);
 }
 
 bool parse_gap_policy(const std::string& text, GapPolicy& policy) {

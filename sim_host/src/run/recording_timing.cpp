@@ -162,7 +162,12 @@ std::vector<SampledSignal> condition_series(const std::string& path, RawSeries r
   report.source = raw.source;
   report.samples_read = raw.t_s.size();
   report.frames_too_short = raw.frames_too_short;
-  if (!acceleration_unit_factor(raw.unit, report.unit_factor)) {
+  if (options.quantity == Quantity::length) {
+    if (!length_unit_factor(raw.unit, report.unit_factor)) {
+      throw HostError(fmt::format("{}: {} has unit '{}', not a length (m, mm, cm, um)", path,
+                                  raw.source, raw.unit));
+    }
+  } else if (!acceleration_unit_factor(raw.unit, report.unit_factor)) {
     throw HostError(
         fmt::format("{}: {} has unit '{}', not an acceleration (g, m/s^2, mm/s^2); "
                     "give --unit to read it as one",

@@ -14,6 +14,9 @@
 namespace stickslip::host {
 
 enum class GapPolicy { refuse, hold, split };
+// What the signal measures: an acceleration (m/s^2; g and mm/s^2 converted) or, for a rig's
+// travel x_r, a length (m; mm converted).
+enum class Quantity { acceleration, length };
 
 struct RecordingOptions {
   std::string signal;  // text: column name or 1-based index; CAN log: MESSAGE.SIGNAL
@@ -23,6 +26,7 @@ struct RecordingOptions {
   std::string unit;    // g | m/s^2 | mm/s^2, over the header's or the DBC's unit
   GapPolicy gaps = GapPolicy::refuse;
   double dt_s = 0;  // the model's step (0: the recording's own, which must be uniform)
+  Quantity quantity = Quantity::acceleration;
   // Whether nothing was given: today's t,a_u CSV and .mat are then read exactly as before.
   bool defaults() const noexcept;
 };
@@ -74,6 +78,10 @@ std::string recording_report_json(const RecordingReport& report);
 
 // The parsed --unit or header unit: m/s^2 per unit; false for a unit that is no acceleration.
 bool acceleration_unit_factor(const std::string& unit, double& factor);
+// m per unit for a length (m, mm, cm, um); an empty unit is m.
+bool length_unit_factor(const std::string& unit, double& factor);
+// The factor of `unit` for `quantity` (one of the two above).
+bool unit_factor(Quantity quantity, const std::string& unit, double& factor);
 // "refuse" | "hold" | "split"
 bool parse_gap_policy(const std::string& text, GapPolicy& policy);
 

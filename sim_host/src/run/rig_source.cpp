@@ -39,7 +39,8 @@ SampledSignal read_channel(const std::string& path, const RecordingOptions& opti
 void check_aligned(const std::string& path, const SampledSignal& a_u, const SampledSignal& other,
                    const char* name) {
   const double half_step = 0.5 * a_u.dt_s;
-  if (other.t_s.size() != a_u.t_s.size() || std::fabs(other.t_s.front() - a_u.t_s.front()) > half_step ||
+  if (other.t_s.size() != a_u.t_s.size() ||
+      std::fabs(other.t_s.front() - a_u.t_s.front()) > half_step ||
       std::fabs(other.dt_s - a_u.dt_s) > kJitterTolerance * a_u.dt_s) {
     throw HostError(fmt::format(
         "{}: {} does not line up with a_u: {} samples from t = {} s every {:.6g} s against a_u's "

@@ -217,8 +217,9 @@ SampledSignal read_continuous_recording(const std::string& path, const Recording
                                         const char* command, RecordingReport* report) {
   if (options.gaps == GapPolicy::split) {
     throw UsageError(std::string("--gaps split: ") + command +
-                     " needs one continuous signal; use --gaps hold, or simulate, which runs "
-                     "each part alone");
+                     " streams one continuous signal (a SeatInput frame per sample, which the node "
+                     "steps through as one run); use --gaps hold, or simulate, which runs each "
+                     "part alone");
   }
   LoadedRecording loaded = read_recording(path, options);
   if (report != nullptr) *report = loaded.report;

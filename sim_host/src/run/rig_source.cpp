@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <utility>
+#include <vector>
 
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/delimited_text.hpp"
@@ -26,28 +27,55 @@ bool has_column(const DelimitedTable& table, const std::string& name) {
   return false;
 }
 
-SampledSignal read_channel(const std::string& path, const RecordingOptions& options,
-                           RecordingReport& report) {
+std::vector<SampledSignal> read_channel(const std::string& path, const RecordingOptions& options,
+                                        RecordingReport& report) {
   LoadedRecording loaded = read_recording(path, options);
   report = loaded.report;
-  return std::move(loaded.segments.front());
+  return std::move(loaded.segments);
 }
 
 // Every channel comes from the same file with the same time base, so a text file gives equal
-// grids; a CAN log whose signals sit in different messages may not, and the fit compares sample
-// n with sample n: such channels are refused, never shifted or trimmed.
-void check_aligned(const std::string& path, const SampledSignal& a_u, const SampledSignal& other,
-                   const char* name) {
-  const double half_step = 0.5 * a_u.dt_s;
-  if (other.t_s.size() != a_u.t_s.size() ||
-      std::fabs(other.t_s.front() - a_u.t_s.front()) > half_step ||
-      std::fabs(other.dt_s - a_u.dt_s) > kJitterTolerance * a_u.dt_s) {
+// grids (and equal gaps); a CAN log whose signals sit in different messages may not, and the fit
+// compares sample n with sample n: such channels are refused, never shifted or trimmed.
+void check_aligned(const std::string& path, const std::vector<SampledSignal>& a_u,
+                   const std::vector<SampledSignal>& other, const char* name) {
+  if (other.size() != a_u.size()) {
     throw HostError(fmt::format(
-        "{}: {} does not line up with a_u: {} samples from t = {} s every {:.6g} s against a_u's "
-        "{} from t = {} s every {:.6g} s; the fit needs both on the same samples (put them in "
-        "one message or one time column)",
-        path, name, other.t_s.size(), other.t_s.front(), other.dt_s, a_u.t_s.size(),
-        a_u.t_s.front(), a_u.dt_s));
+        "{}: {} has {} parts between gaps and a_u {}; the fit needs both on the same samples "
+        "(put them in one message or one time column)",
+        path, name, other.size(), a_u.size()));
+  }
+  for (std::size_t i = 0; i < a_u.size(); ++i) {
+    const SampledSignal& u = a_u[i];
+    const SampledSignal& o = other[i];
+    if (o.t_s.size() != u.t_s.size() || std::fabs(o.t_s.front() - u.t_s.front()) > 0.5 * u.dt_s ||
+        std::fabs(o.dt_s - u.dt_s) > kJitterTolerance * u.dt_s) {
+      throw HostError(fmt::format(
+          "{}: {} does not line up with a_u: {} samples from t = {} s every {:.6g} s against "
+          "a_u's {} from t = {} s every {:.6g} s; the fit needs both on the same samples (put "
+          "them in one message or one time column)",
+          path, name, o.t_s.size(), o.t_s.front(), o.dt_s, u.t_s.size(), u.t_s.front(), u.dt_s));
+    }
+  }
+}
+
+// The parts end to end; their steps must agree (each part's own when no --dt is given).
+void lay_end_to_end(const std::string& path, const std::vector<SampledSignal>& u,
+                    const std::vector<SampledSignal>& x, RigRecording& rig) {
+  rig.dt_s = u.front().dt_s;
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    if (std::fabs(u[i].dt_s - rig.dt_s) > kJitterTolerance * rig.dt_s) {
+      throw HostError(fmt::format(
+          "{}: the part from t = {} s has a step of {:.6g} s, the first part {:.6g} s; give --dt "
+          "S to put both on the model's step",
+          path, u[i].t_s.front(), u[i].dt_s, rig.dt_s));
+    }
+    if (u.size() > 1) rig.segment_starts.push_back(rig.t_s.size());
+    rig.t_s.insert(rig.t_s.end(), u[i].t_s.begin(), u[i].t_s.end());
+    rig.a_u_m_per_s2.insert(rig.a_u_m_per_s2.end(), u[i].a_u_m_per_s2.begin(),
+                            u[i].a_u_m_per_s2.end());
+    rig.a_x_m_per_s2.insert(rig.a_x_m_per_s2.end(), x[i].a_u_m_per_s2.begin(),
+                            x[i].a_u_m_per_s2.end());
   }
 }
 
@@ -68,11 +96,6 @@ RigSource read_rig_source(const std::string& path, const RigSourceOptions& optio
     throw HostError(path +
                     ": fit reads rig recordings from text or CAN logs; a .mat is read for a_u "
                     "only");
-  }
-  if (options.recording.gaps == GapPolicy::split) {
-    throw UsageError(
-        "--gaps split: fit needs one continuous recording; use --gaps hold (gaps held) or cut "
-        "the file at its gaps");
   }
   const bool can_log = !options.recording.dbc.empty();
   RecordingOptions a_x = options.recording;
@@ -100,24 +123,22 @@ RigSource read_rig_source(const std::string& path, const RigSourceOptions& optio
   }
   if (x_r.signal.empty() && !options.travel_unit.empty())
     throw UsageError("--travel-unit: give --travel-signal too");
-  const SampledSignal u = read_channel(path, options.recording, source.a_u);
-  const SampledSignal x = read_channel(path, a_x, source.a_x);
+  const std::vector<SampledSignal> u = read_channel(path, options.recording, source.a_u);
+  const std::vector<SampledSignal> x = read_channel(path, a_x, source.a_x);
   check_aligned(path, u, x, "a_x");
   RigRecording& rig = source.rig;
   rig.path = path;
   if (!x_r.signal.empty()) {
-    SampledSignal travel = read_channel(path, x_r, source.x_r);
+    const std::vector<SampledSignal> travel = read_channel(path, x_r, source.x_r);
     check_aligned(path, u, travel, "x_r");
-    rig.x_r_m = std::move(travel.a_u_m_per_s2);
+    for (const SampledSignal& part : travel)
+      rig.x_r_m.insert(rig.x_r_m.end(), part.a_u_m_per_s2.begin(), part.a_u_m_per_s2.end());
   }
-  if (u.t_s.size() < kMinimumSamples) {
-    throw HostError(fmt::format("{}: {} samples; the fit needs at least {}", path, u.t_s.size(),
+  lay_end_to_end(path, u, x, rig);
+  if (rig.t_s.size() < kMinimumSamples) {
+    throw HostError(fmt::format("{}: {} samples; the fit needs at least {}", path, rig.t_s.size(),
                                 kMinimumSamples));
   }
-  rig.t_s = u.t_s;
-  rig.dt_s = u.dt_s;
-  rig.a_u_m_per_s2 = u.a_u_m_per_s2;
-  rig.a_x_m_per_s2 = x.a_u_m_per_s2;
   return source;
 }
 

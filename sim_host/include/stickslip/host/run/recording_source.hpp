@@ -66,7 +66,7 @@ struct LoadedRecording {
 LoadedRecording read_recording(const std::string& path, const RecordingOptions& options);
 
 // The one segment of a recording read with gaps refused or held (--gaps split is refused with a
-// UsageError naming `command`, for commands that need one continuous signal).
+// UsageError naming `command`, for the bus commands, which stream one continuous signal).
 SampledSignal read_continuous_recording(const std::string& path, const RecordingOptions& options,
                                         const char* command, RecordingReport* report = nullptr);
 

@@ -16,6 +16,7 @@ struct RawSeries {
   std::size_t frames_too_short = 0;
   bool from_rate = false;          // t made from --rate
   std::vector<std::size_t> lines;  // text: the file's line of each sample (messages name it)
+  std::vector<double> f_a_n;       // text: a column f_a (actuator force, N), when there is one
 };
 
 // Text (delimited_text.hpp) or a CAN log with a DBC (can_signal.hpp), as `options` select.

@@ -86,6 +86,15 @@ RawSeries read_text_series(const std::string& path, const RecordingOptions& opti
   }
   raw.values = signal->values;
   raw.lines = table.row_lines;
+  // The actuator force column, by its exact name as the t,a_u CSV reader takes it (csv_reader.hpp).
+  for (const TextChannel& channel : table.channels) {
+    if (channel.name != "f_a" || &channel == signal || &channel == time) continue;
+    if (!channel.unit.empty() && channel.unit != "N") {
+      throw HostError(fmt::format("{}: column 'f_a' (the actuator force) is in '{}'; N expected",
+                                  path, channel.unit));
+    }
+    raw.f_a_n = channel.values;
+  }
   raw.unit = options.unit.empty() ? signal->unit : options.unit;
   raw.source = fmt::format("text column {}", signal->name);
   if (time == nullptr) {

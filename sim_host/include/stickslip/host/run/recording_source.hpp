@@ -53,7 +53,10 @@ struct RecordingReport {
   std::size_t segments = 1;
   std::size_t short_segment_samples = 0;  // --gaps split: samples of parts too short to run
   std::size_t frames_too_short = 0;       // CAN: frames of the message that cannot hold the signal
-  bool acted() const noexcept;            // anything beyond reading the samples as they are
+  // A text column f_a (actuator force) that could not stay on its samples: the signal was held,
+  // split, regridded or resampled. simulate refuses such a file; the others do not use f_a.
+  bool actuator_force_unaligned = false;
+  bool acted() const noexcept;  // anything beyond reading the samples as they are
 };
 
 struct LoadedRecording {

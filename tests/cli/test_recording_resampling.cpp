@@ -166,6 +166,43 @@ TEST(RecordingResampling, SplitRunsEachPartAloneAndReportsEachAndTheWhole) {
   LONGS_EQUAL(3900, stats["samples"].get<int>());
   LONGS_EQUAL(3900, read_table(dir.file("out.csv")).rows.size());  // both parts, one header
   CHECK(run.err.find("split into 2 segments") != std::string::npos);
+
+  // Ride comfort of the whole from the parts, each run here as a file of its own: weighted mean
+  // squares added by samples, VDV by fourth powers, MTVV the larger. The same doubles go through
+  // the same arithmetic in another order, so only rounding separates them.
+  std::string first = "t,a_u\n", second = "t,a_u\n";
+  for (int i = 0; i < 4000; ++i) {
+    if (i >= 2000 && i < 2100) continue;
+    const double t = i * 0.001;
+    (i < 2000 ? first : second) += csv_row(t, floor_signal(t));
+  }
+  write_text(dir.file("first.csv"), first);
+  write_text(dir.file("second.csv"), second);
+  std::vector<nlohmann::json> alone;
+  for (const char* name : {"first.csv", "second.csv"}) {
+    const auto part = run_stickslip({"simulate", "--input", dir.file(name), "--output",
+                                     dir.file("part.csv"), "--model", "stick-slip", "--ffk", "60"});
+    LONGS_EQUAL_TEXT(0, part.status, part.err.c_str());
+    alone.push_back(stats_of(part));
+  }
+  const auto mean_square = [&](const char* key) {
+    double sum = 0.0;
+    for (const nlohmann::json& part : alone) {
+      const double rms = part[key].get<double>();
+      sum += part["samples"].get<double>() * rms * rms;
+    }
+    return std::sqrt(sum / (alone[0]["samples"].get<double>() + alone[1]["samples"].get<double>()));
+  };
+  const double seat = mean_square("seat_weighted_rms"), floor = mean_square("floor_weighted_rms");
+  DOUBLES_EQUAL(seat, stats["seat_weighted_rms"].get<double>(), 1e-14 * seat);
+  DOUBLES_EQUAL(floor, stats["floor_weighted_rms"].get<double>(), 1e-14 * floor);
+  DOUBLES_EQUAL(seat / floor, stats["seat"].get<double>(), 1e-14 * seat / floor);
+  const double vdv = std::pow(
+      std::pow(alone[0]["vdv"].get<double>(), 4.0) + std::pow(alone[1]["vdv"].get<double>(), 4.0),
+      0.25);
+  DOUBLES_EQUAL(vdv, stats["vdv"].get<double>(), 1e-14 * vdv);
+  DOUBLES_EQUAL(std::max(alone[0]["mtvv"].get<double>(), alone[1]["mtvv"].get<double>()),
+                stats["mtvv"].get<double>(), 0.0);
 }
 
 // Today's files read as before: without recording flags, and with --dt at the file's own step,
@@ -206,4 +243,79 @@ TEST(RecordingResampling, TodaysCsvAndMatReadToTheSameTraceAndGenerateWritesARea
     traces.push_back(stickslip::test::read_text(dir.file("out.csv")));
   }
   for (const std::string& trace : traces) CHECK(trace == traces.front());
+}
+
+// A .mat file with a logger's times - jittered, or with a gap - takes the recording options as
+// a text file does: the same samples in both give the same trace, byte for byte. Without the
+// options it is refused with one line that names the element and points to inspect.
+TEST(RecordingResampling, JitteredOrGappedMatRunsWithTheOptionsLikeTheSameCsv) {
+  TempDir dir;
+  const double longest_step = write_jittered(dir.file("jittered.csv"));
+  CHECK(longest_step > 0.002);
+  stickslip::host::SampledSignal jittered;
+  {
+    const stickslip::test::Table table = read_table(dir.file("jittered.csv"));
+    jittered.t_s = column(table, 0);
+    jittered.a_u_m_per_s2 = column(table, 1);
+  }
+  stickslip::host::write_signal_mat(dir.file("jittered.mat"), jittered);
+
+  std::string gapped_text = "t,a_u\n";
+  stickslip::host::SampledSignal gapped;
+  for (int i = 0; i < 4000; ++i) {
+    if (i >= 1500 && i < 1620) continue;  // the logger lost 0.12 s
+    const double t = i * 0.001;
+    gapped_text += csv_row(t, floor_signal(t));
+    gapped.t_s.push_back(t);
+    gapped.a_u_m_per_s2.push_back(floor_signal(t));
+  }
+  write_text(dir.file("gapped.csv"), gapped_text);
+  stickslip::host::write_signal_mat(dir.file("gapped.mat"), gapped);
+
+  const auto trace_of = [&](const std::string& input, const std::vector<std::string>& flags) {
+    std::vector<std::string> arguments = {
+        "simulate", "--input",    input,   "--output", dir.file("out.csv"),
+        "--model",  "stick-slip", "--ffk", "40"};
+    arguments.insert(arguments.end(), flags.begin(), flags.end());
+    const auto run = run_stickslip(arguments);
+    LONGS_EQUAL_TEXT(0, run.status, run.err.c_str());
+    return stickslip::test::read_text(dir.file("out.csv"));
+  };
+  const std::vector<std::string> regrid = {"--dt", "0.001"};
+  const std::vector<std::string> split = {"--gaps", "split"};
+  const std::string jittered_trace = trace_of(dir.file("jittered.csv"), regrid);
+  CHECK(jittered_trace == trace_of(dir.file("jittered.mat"), regrid));
+  const std::string gapped_trace = trace_of(dir.file("gapped.csv"), split);
+  CHECK(gapped_trace == trace_of(dir.file("gapped.mat"), split));
+  LONGS_EQUAL(4000 - 120, read_table(dir.file("out.csv")).rows.size());
+
+  const auto refused =
+      run_stickslip({"simulate", "--input", dir.file("jittered.mat"), "--output",
+                     dir.file("refused.csv"), "--model", "stick-slip", "--ffk", "40"});
+  LONGS_EQUAL(1, refused.status);
+  STRCMP_CONTAINS("jittered.mat: 't' is not uniform at element", refused.err.c_str());
+  STRCMP_CONTAINS("stickslip inspect", refused.err.c_str());
+  CHECK(!stickslip::test::exists(dir.file("refused.csv")));
+}
+
+// A CAN log whose times go backwards is refused with one line naming the log's line of the frame
+// (a text log); nothing is written.
+TEST(RecordingResampling, ACanLogWhoseTimesGoBackwardsNamesTheFramesLine) {
+  TempDir dir;
+  write_text(dir.file("bus.asc"),
+             "date Fri Nov 27 05:00:00.000 am 2026\n"
+             "base hex  timestamps absolute\n"
+             "   0.001000 1  100             Rx   d 8 00 00 00 00 00 00 00 00\n"
+             "   0.002000 1  100             Rx   d 8 01 00 00 00 00 00 00 00\n"
+             "   0.002500 1  181             Rx   d 2 00 00\n"
+             "   0.001500 1  100             Rx   d 8 02 00 00 00 00 00 00 00\n");
+  const auto run = run_stickslip({"simulate", "--input", dir.file("bus.asc"), "--dbc",
+                                  std::string(STICKSLIP_SOURCE_DIR) + "/docs/can/stickslip.dbc",
+                                  "--signal", "SeatInput.a_u", "--output", dir.file("out.csv"),
+                                  "--model", "stick-slip", "--ffk", "40"});
+  LONGS_EQUAL(1, run.status);
+  LONGS_EQUAL(1, stickslip::test::split_lines(run.err).size());
+  STRCMP_CONTAINS((dir.file("bus.asc") + ":6: t = 0.0015 s does not come after 0.002 s").c_str(),
+                  run.err.c_str());
+  CHECK(!stickslip::test::exists(dir.file("out.csv")));
 }

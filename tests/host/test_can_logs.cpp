@@ -384,3 +384,32 @@ TEST(CanSignal, UnknownNamesAndAbsentMessagesAreOneLine) {
                error("SeatInput.a_u").c_str());
   CHECK(error("a_u").find("expected MESSAGE.SIGNAL") != std::string::npos);
 }
+
+// Every decoded sample knows its frame, so a message about a sample (times that go backwards,
+// tests/cli) names it: the line in a text log, the place among the data frames in a BLF file.
+TEST(CanSignal, EachSampleNamesItsFrameByLineInTextAndByPlaceInBlf) {
+  const host::Dbc dbc =
+      host::read_dbc(std::string(STICKSLIP_SOURCE_DIR) + "/docs/can/stickslip.dbc");
+  const std::string asc =
+      "date Fri Nov 27 05:00:00.000 am 2026\n"
+      "base hex  timestamps absolute\n"
+      "   0.001000 1  100             Rx   d 8 00 00 00 00 00 00 00 00\n"
+      "   0.001500 1  181             Rx   d 2 00 00\n"
+      "   0.002000 1  100             Rx   d 8 01 00 00 00 00 00 00 00\n";
+  const host::SignalSeries text_series =
+      host::extract_signal(host::parse_asc(asc, "bus.asc"), "bus.asc", dbc, "SeatInput.a_u");
+  CHECK(text_series.frame_lines);
+  LONGS_EQUAL(2, text_series.frames.size());
+  LONGS_EQUAL(3, text_series.frames[0]);
+  LONGS_EQUAL(5, text_series.frames[1]);
+
+  const std::string inner =
+      object_v1(1, 2, 1000000u, can_message(1, 0, 2, 0x181, std::string(8, '\0'))) +
+      object_v1(73, 2, 1100000u, std::string(36, '\0')) +  // an error frame: not a data frame
+      object_v1(1, 2, 2000000u, can_message(1, 0, 8, 0x100, std::string(8, '\0')));
+  const host::SignalSeries blf_series = host::extract_signal(
+      host::parse_blf(blf_file(inner), "bus.blf"), "bus.blf", dbc, "SeatInput.a_u");
+  CHECK(!blf_series.frame_lines);
+  LONGS_EQUAL(1, blf_series.frames.size());
+  LONGS_EQUAL(2, blf_series.frames[0]);
+}

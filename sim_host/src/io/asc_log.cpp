@@ -110,6 +110,7 @@ CanLog parse_asc(std::string_view bytes, const std::string& path) {
              " is not a byte");
       frame.data[i] = static_cast<std::uint8_t>(byte);
     }
+    frame.line = n + 1;
     log.frames.push_back(std::move(frame));
   }
   return log;

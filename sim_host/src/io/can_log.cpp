@@ -202,6 +202,7 @@ CanLog parse_candump_text(std::string_view bytes, const std::string& path) {
     if (text::trim(lines[n]).empty()) continue;
     LogFrame frame;
     if (CandumpLine(path, n + 1, lines[n]).parse(frame)) {
+      frame.line = n + 1;
       log.frames.push_back(std::move(frame));
     } else {
       ++log.skipped_events;

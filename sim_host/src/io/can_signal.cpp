@@ -34,7 +34,9 @@ SignalSeries extract_signal(const CanLog& log, const std::string& log_path, cons
   SignalSeries series;
   series.name = std::string(selector);
   series.unit = signal->unit;
-  for (const LogFrame& frame : log.frames) {
+  series.frame_lines = log.format != CanLogFormat::kBlf;
+  for (std::size_t n = 0; n < log.frames.size(); ++n) {
+    const LogFrame& frame = log.frames[n];
     if (frame.id != message->id || frame.extended != message->extended) continue;
     const std::optional<double> value = decode_signal(*signal, frame.data.data(), frame.length);
     if (!value) {
@@ -43,6 +45,7 @@ SignalSeries extract_signal(const CanLog& log, const std::string& log_path, cons
     }
     series.t_s.push_back(frame.time_s);
     series.values.push_back(*value);
+    series.frames.push_back(series.frame_lines ? frame.line : n + 1);
   }
   if (series.values.empty()) {
     char id[16];

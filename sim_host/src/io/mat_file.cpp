@@ -106,7 +106,7 @@ bool has_mat_extension(const std::string& path) {
 
 }  // namespace
 
-SampledSignal read_signal_mat(const std::string& path) {
+SampledSignal read_signal_mat(const std::string& path, MatTimes times) {
   MatFile file(Mat_Open(path.c_str(), MAT_ACC_RDONLY));
   if (!file) throw HostError(path + ": cannot open as a MATLAB .mat file");
   bool has_a_u = false, has_t = false, has_dt = false;
@@ -129,11 +129,12 @@ SampledSignal read_signal_mat(const std::string& path) {
         throw HostError(fmt::format("{}: 't' must increase, element {} is {} after {}", path, i + 1,
                                     signal.t_s[i], signal.t_s[i - 1]));
       }
-      if (std::fabs(step - first_step) > kUniformStepTolerance * first_step) {
+      if (times == MatTimes::uniform &&
+          std::fabs(step - first_step) > kUniformStepTolerance * first_step) {
         throw HostError(
             fmt::format("{}: 't' is not uniform at element {}: step {} s against the "
-                        "first step {} s",
-                        path, i + 1, step, first_step));
+                        "first step {} s (stickslip inspect {} suggests the flags)",
+                        path, i + 1, step, first_step, path));
       }
     }
     signal.dt_s = (signal.t_s.back() - signal.t_s.front()) / static_cast<double>(n - 1);

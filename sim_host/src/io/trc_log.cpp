@@ -203,6 +203,7 @@ CanLog parse_trc(std::string_view bytes, const std::string& path) {
     }
     LogFrame frame;
     if (read_trc_frame(text::split_blanks(line), version, frame, place)) {
+      frame.line = n + 1;
       log.frames.push_back(std::move(frame));
     } else {
       ++log.skipped_events;

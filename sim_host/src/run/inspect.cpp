@@ -276,7 +276,7 @@ std::string inspect_can(const std::string& path, const RecordingOptions& options
 }
 
 std::string inspect_mat(const std::string& path) {
-  const SampledSignal signal = read_signal_mat(path);
+  const SampledSignal signal = read_signal_mat(path, MatTimes::increasing);
   std::string text = fmt::format("{}: MATLAB file, variables t (or dt) and a_u\n", path);
   const Timing timing = describe_times(signal.t_s);
   text += timing.text + "channels:\n" + describe_values("a_u", "m/s^2", signal.a_u_m_per_s2);

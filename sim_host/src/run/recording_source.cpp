@@ -133,6 +133,8 @@ RawSeries read_can_series(const std::string& path, const RecordingOptions& optio
   raw.values = std::move(series.values);
   raw.unit = options.unit.empty() ? series.unit : options.unit;
   raw.frames_too_short = series.frames_too_short;
+  raw.frames = std::move(series.frames);
+  raw.frame_lines = series.frame_lines;
   raw.source = fmt::format("{} {}", format_name(log.format), series.name);
   return raw;
 }
@@ -196,7 +198,8 @@ LoadedRecording read_recording(const std::string& path, const RecordingOptions& 
                        ": a .mat recording holds t (or dt) and a_u; --signal, --dbc, "
                        "--time and --rate are for text and CAN logs");
     }
-    SampledSignal signal = read_signal_mat(path);
+    SampledSignal signal =
+        read_signal_mat(path, options.defaults() ? MatTimes::uniform : MatTimes::increasing);
     if (options.defaults()) {
       loaded.report.source = ".mat a_u";
       loaded.report.samples_read = signal.t_s.size();

@@ -12,9 +12,14 @@
 namespace stickslip::host {
 namespace {
 
-// "FILE:LINE: " for text, "FILE: sample N: " otherwise.
+// "FILE:LINE: " for text and text CAN logs, "FILE: data frame N: " for BLF, "FILE: sample N: "
+// otherwise (.mat).
 std::string where(const std::string& path, const RawSeries& raw, std::size_t i) {
   if (i < raw.lines.size()) return fmt::format("{}:{}: ", path, raw.lines[i]);
+  if (i < raw.frames.size()) {
+    if (raw.frame_lines) return fmt::format("{}:{}: ", path, raw.frames[i]);
+    return fmt::format("{}: data frame {}: ", path, raw.frames[i]);
+  }
   return fmt::format("{}: sample {}: ", path, i + 1);
 }
 

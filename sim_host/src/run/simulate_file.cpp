@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cfloat>
 #include <cmath>
@@ -183,11 +184,16 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
 }
 
 // The parts of a --gaps split run as one: RMS values weighted by samples, p by steps (each part
-// starts from the initial state). Ride comfort needs one continuous trace, so it is left out.
+// starts from the initial state). Ride comfort as ISO 2631-1 combines exposures: each part's
+// weighted filter starts anew, the weighted mean squares add by samples, the VDVs by their fourth
+// powers (VDV is the fourth root of an integral over time), MTVV and the peak are the largest
+// part's; the crest factor is that peak over the whole's weighted RMS.
 SimulationSummary combine_parts(const std::vector<SimulationSummary>& parts,
                                 const SimulationSetup& setup) {
   SimulationSummary all = parts.front();
   double u2 = 0.0, x2 = 0.0, stuck = 0.0;
+  double floor_w2 = 0.0, seat_w2 = 0.0, vdv4 = 0.0, mtvv = 0.0, peak = 0.0;
+  bool comfort = true;
   all.samples = all.steps = all.events = all.rejected_inputs = 0;
   all.event_budget_exhausted = all.state_resets = all.saturated_steps = 0;
   for (const SimulationSummary& part : parts) {
@@ -201,6 +207,13 @@ SimulationSummary combine_parts(const std::vector<SimulationSummary>& parts,
     u2 += static_cast<double>(part.samples) * part.rms_u * part.rms_u;
     x2 += static_cast<double>(part.samples) * part.rms_x * part.rms_x;
     stuck += static_cast<double>(part.steps) * part.stick_probability;
+    comfort = comfort && part.comfort;
+    floor_w2 +=
+        static_cast<double>(part.samples) * part.floor_weighted_rms * part.floor_weighted_rms;
+    seat_w2 += static_cast<double>(part.samples) * part.seat_weighted_rms * part.seat_weighted_rms;
+    vdv4 += std::pow(part.seat_vdv, 4.0);
+    mtvv = std::max(mtvv, part.seat_mtvv);
+    peak = std::max(peak, part.seat_crest_factor * part.seat_weighted_rms);
   }
   all.rms_u = std::sqrt(u2 / static_cast<double>(all.samples));
   all.rms_x = std::sqrt(x2 / static_cast<double>(all.samples));
@@ -208,7 +221,16 @@ SimulationSummary combine_parts(const std::vector<SimulationSummary>& parts,
   all.stick_probability = stuck / static_cast<double>(all.steps);
   all.den_hartog_k =
       den_hartog_factor(setup.params.kinetic_friction_n, setup.params.mass_kg, all.rms_u);
-  all.comfort = false;
+  all.comfort = comfort;
+  if (comfort) {
+    const auto samples = static_cast<double>(all.samples);
+    all.floor_weighted_rms = std::sqrt(floor_w2 / samples);
+    all.seat_weighted_rms = std::sqrt(seat_w2 / samples);
+    all.seat_ratio = all.seat_weighted_rms / all.floor_weighted_rms;
+    all.seat_vdv = std::pow(vdv4, 0.25);
+    all.seat_mtvv = mtvv;
+    all.seat_crest_factor = peak / all.seat_weighted_rms;
+  }
   return all;
 }
 

@@ -28,7 +28,8 @@ struct LogFrame {
   std::uint8_t dlc = 0;     // as logged (0..15; a classic frame carries min(dlc, 8) bytes)
   std::uint8_t length = 0;  // data bytes in `data`
   std::array<std::uint8_t, 8> data{};
-  char direction = 0;  // 'R' received, 'T' transmitted, 0 when the log does not say
+  char direction = 0;    // 'R' received, 'T' transmitted, 0 when the log does not say
+  std::size_t line = 0;  // text logs: the frame's line in the file (1-based); BLF: 0
 };
 
 struct CanLog {

@@ -17,6 +17,10 @@ struct SignalSeries {
   std::string unit;  // the DBC's unit of the signal
   std::vector<double> t_s;
   std::vector<double> values;
+  // Per sample: the frame's line in a text log, or its 1-based place among the log's data
+  // frames in a BLF file (frame_lines says which), for messages that name a frame.
+  std::vector<std::size_t> frames;
+  bool frame_lines = false;
   std::size_t frames_too_short = 0;  // frames of the message whose data cannot hold the signal
 };
 

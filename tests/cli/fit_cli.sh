@@ -7,6 +7,7 @@
 set -euo pipefail
 stickslip=$1
 validation=$2
+source_dir=$(cd "$(dirname "$0")/../.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
@@ -110,6 +111,34 @@ PY
   --ax-unit g --travel-signal travel --travel-unit mm --rate 500 >norate_fit.txt
 [ "$(tail -1 norate_fit.txt | sed 's/"seconds":[^,]*,//')" = "$(tail -1 logger_fit.txt | sed 's/"seconds":[^,]*,//')" ] ||
   fail "--rate 500 with --unit/--ax-unit/--travel-unit fits differently from the header's units"
+# The same rig as a vehicle bus carries it: replay --estimator sends a_u in SeatInput and the
+# measured a_x and travel in SeatSensors (docs/CAN.md) over the loopback bus, and --output-log
+# writes the candump log with the clock's time stamps (seconds since the epoch). Read back with the
+# project's DBC, each channel named MESSAGE.SIGNAL, the fit is the same experiment with the
+# signals quantised to their frames' resolution (a_u, a_x 2^-10 m/s^2, travel 2^-16 m, far below
+# the noise), so each estimate must lie within the SI fit's 95 % interval.
+dbc=$source_dir/docs/can/stickslip.dbc
+"$stickslip" replay --input travel.csv --estimator --output bus_trace.csv --output-log bus.log \
+  --model stick-slip --ffk 47 >/dev/null 2>&1 || fail "replay --estimator of the rig failed"
+"$stickslip" fit --input bus.log --dbc "$dbc" --signal SeatInput.a_u --ax-signal SeatSensors.a_x \
+  --travel-signal SeatSensors.x_r --mass 88.4 >can_fit.txt 2>can_err.txt ||
+  fail "fit of the candump log: $(cat can_err.txt)"
+/usr/bin/python3 - <<'PY' || fail "the candump log's fit differs from the SI file's"
+import json
+def last(name):
+    return json.loads(open(name).read().splitlines()[-1])
+si, can = last("si.txt"), last("can_fit.txt")
+for key in ("stiffness", "damping", "ffk", "ffs"):
+    difference = abs(can[key] - si[key])
+    print(f"fit_cli: candump log vs SI: {key} {can[key]:.6g} vs {si[key]:.6g}: "
+          f"{difference / si[key + '_ci95']:.2f} x the 95 % interval")
+    assert difference <= si[key + "_ci95"], key
+PY
+# Without its first SeatSensors frame the measured channels start a step after a_u: refused.
+awk '/ 101#/ && !dropped { dropped = 1; next } { print }' bus.log >late.log
+refuses 1 "does not line up with a_u" --input late.log --dbc "$dbc" --signal SeatInput.a_u \
+  --ax-signal SeatSensors.a_x --travel-signal SeatSensors.x_r --mass 88.4
+
 # --gaps split: the rig with 1 s lost at t = 30 s is two parts, each simulated from rest at its own
 # start, fitted as one least-squares problem. Both parts must be in it with all their samples
 # (30000 and 29001: a part dropped changes the counts), each part's residual must stay at the

@@ -273,6 +273,12 @@ bool unit_factor(Quantity quantity, const std::string& unit, double& factor) {
                                       : acceleration_unit_factor(unit, factor);
 }
 
+bool steps_uniform(double jitter, double step_s, double t_first_s, double t_last_s) noexcept {
+  const double largest = std::max(std::fabs(t_first_s), std::fabs(t_last_s));
+  const double spacing = std::nextafter(largest, HUGE_VAL) - largest;
+  return jitter <= kJitterTolerance || jitter * step_s <= 2.0 * spacing;
+}
+
 bool parse_gap_policy(const std::string& text, GapPolicy& policy) {
   if (text == "refuse")
     policy = GapPolicy::refuse;

@@ -82,7 +82,7 @@ SampledSignal onto_model_step(const std::string& path, Part part, double step,
   const std::size_t n = part.t_s.size();
   SampledSignal signal;
   const double jitter = part_jitter(part, step);
-  const bool uniform = jitter <= kJitterTolerance;
+  const bool uniform = steps_uniform(jitter, step, part.t_s.front(), part.t_s.back());
   if (!uniform && !(options.dt_s > 0)) {
     throw HostError(fmt::format(
         "{}: the sample times jitter by up to {:.3g} % of the {:.6g} s step; give --dt S to put "

@@ -37,6 +37,12 @@ inline constexpr double kGapSteps = 1.5;
 // tolerance as CsvReader's uniform check.
 inline constexpr double kJitterTolerance = kUniformStepTolerance;
 
+// Whether steps whose largest relative distance from the nominal `step_s` is `jitter` are
+// uniform: within kJitterTolerance, or within what times as large as t_first_s and t_last_s can
+// tell apart in a double (two of its spacings there). A candump log's seconds since the epoch
+// (about 1.8e9 s, spaced 2.4e-7 s) cannot show a 1 ms step to better than 2.4e-4 of it.
+bool steps_uniform(double jitter, double step_s, double t_first_s, double t_last_s) noexcept;
+
 struct RecordingReport {
   std::string source;  // "text column AccZ [g]", "CAN CabFloor.AccZ [g]", "t,a_u CSV"
   std::size_t samples_read = 0;

@@ -189,8 +189,8 @@ std::vector<double> parse_list(const char* text) {
 int run_trials(const RigSpec& base, const std::vector<double>& ks, int trials,
                std::uint64_t first_seed, double min_coverage) {
   std::puts(
-      "| K | seed | k err (CI) | b err (CI) | F_fk err (CI) | F_fs err (CI) | rms res | "
-      "HAC intervals | p meas / model | iter | wall / CPU s |");
+      "| K | seed | k err (CI) | b err (CI) | F_fk err (CI) | F_fs err (CI) | HAC intervals | "
+      "rms res | p meas / model | iter | wall / CPU s |");
   std::puts("|---|---|---|---|---|---|---|---|---|---|---|");
   Tally tally;
   for (int t = 0; t < trials; ++t) {

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "stickslip/can/codec.hpp"
+#include "stickslip/host/io/candump_log.hpp"
 #include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/host/io/mat_file.hpp"
 #include "support/cli_run.hpp"
@@ -318,4 +320,54 @@ TEST(RecordingResampling, ACanLogWhoseTimesGoBackwardsNamesTheFramesLine) {
   STRCMP_CONTAINS((dir.file("bus.asc") + ":6: t = 0.0015 s does not come after 0.002 s").c_str(),
                   run.err.c_str());
   CHECK(!stickslip::test::exists(dir.file("out.csv")));
+}
+
+// A candump log stamps seconds since the epoch: at 1.8e9 s a double's times are 2.4e-7 s apart,
+// so a 1 kHz log's steps differ by up to 2.4e-4 of a step with no jitter in the logger. Such a
+// log is uniform: it simulates at its own step without --dt, nothing regridded or resampled, and
+// gives the T_ax and p of the same decoded samples in a t,a_u CSV at 1 ms. Its step is the span
+// over the steps (span known to 2.4e-7 s over 4 s: 6e-8 relative), so T_ax may differ by that
+// order (bound 1e-7); p counts stuck steps, which this dt error cannot change.
+TEST(RecordingResampling, ACandumpLogStampedSinceTheEpochIsUniformAtItsOwnStep) {
+  TempDir dir;
+  std::vector<stickslip::host::LoggedFrame> frames;
+  std::string csv = "t,a_u\n";
+  for (int n = 0; n <= 4000; ++n) {
+    const double t = n * 0.001;
+    stickslip::host::LoggedFrame frame;
+    frame.time_us = 1795758598288668ull + static_cast<std::uint64_t>(n) * 1000u;
+    frame.interface = "can0";
+    frame.frame = stickslip::can::make_input_frame(floor_signal(t), static_cast<std::uint64_t>(n));
+    frames.push_back(frame);
+    csv += csv_row(t, stickslip::can::quantised_input(floor_signal(t)));
+  }
+  stickslip::host::write_candump_log(dir.file("bus.log"), frames);
+  write_text(dir.file("same.csv"), csv);
+  const std::vector<std::string> model = {"--model", "stick-slip", "--ffk", "40"};
+  std::vector<std::string> from_log = {
+      "simulate",
+      "--input",
+      dir.file("bus.log"),
+      "--dbc",
+      std::string(STICKSLIP_SOURCE_DIR) + "/docs/can/stickslip.dbc",
+      "--signal",
+      "SeatInput.a_u",
+      "--output",
+      dir.file("log.csv")};
+  from_log.insert(from_log.end(), model.begin(), model.end());
+  std::vector<std::string> from_csv = {"simulate", "--input", dir.file("same.csv"), "--output",
+                                       dir.file("csv.csv")};
+  from_csv.insert(from_csv.end(), model.begin(), model.end());
+  const auto log_run = run_stickslip(from_log);
+  LONGS_EQUAL_TEXT(0, log_run.status, log_run.err.c_str());
+  const auto csv_run = run_stickslip(from_csv);
+  LONGS_EQUAL_TEXT(0, csv_run.status, csv_run.err.c_str());
+  const nlohmann::json log_stats = stats_of(log_run), csv_stats = stats_of(csv_run);
+  LONGS_EQUAL(0, log_stats["recording"]["regridded_samples"].get<int>());
+  CHECK(!log_stats["recording"]["resampled"].get<bool>());
+  LONGS_EQUAL(4001, log_stats["samples"].get<int>());
+  DOUBLES_EQUAL(0.001, log_stats["dt"].get<double>(), 1e-7 * 0.001);
+  const double t_ax = csv_stats["T_ax"].get<double>();
+  DOUBLES_EQUAL(t_ax, log_stats["T_ax"].get<double>(), 1e-7 * t_ax);
+  DOUBLES_EQUAL(csv_stats["p_stick"].get<double>(), log_stats["p_stick"].get<double>(), 0.0);
 }

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <ostream>
+#include <vector>
 
 #include "command.hpp"
 #include "model_options.hpp"
@@ -61,13 +62,22 @@ class PsdCommand : public Command {
                          spectrum_kind_names() + " except white)");
       }
     }
-    RecordingReport report;
-    const SampledSignal signal = read_continuous_recording(input_, recording, "psd", &report);
-    print_recording_report(err, input_, report);
-    const Spectrum spectrum = welch_psd(signal.a_u_m_per_s2, signal.dt_s, segment_);
+    const LoadedRecording loaded = read_recording(input_, recording);
+    std::size_t short_samples = 0;
+    std::vector<const std::vector<double>*> parts;
+    for (const SampledSignal& part : loaded.segments) parts.push_back(&part.a_u_m_per_s2);
+    const Spectrum spectrum =
+        welch_psd_over_parts(parts, loaded.segments.front().dt_s, segment_, short_samples);
     write_psd_csv(spectrum, target, output_);
-    out << fmt::format("wrote {}: {} frequencies, {} segments\n", output_, spectrum.psd.size(),
+    print_recording_report(err, input_, loaded.report);
+    out << fmt::format("wrote {}: {} frequencies, {} segments", output_, spectrum.psd.size(),
                        spectrum.segments);
+    if (loaded.segments.size() > 1) {
+      out << fmt::format(" over {} parts between gaps", loaded.segments.size());
+      if (short_samples > 0)
+        out << fmt::format(" ({} samples in parts shorter than --segment not used)", short_samples);
+    }
+    out << "\n";
     return kExitOk;
   }
 

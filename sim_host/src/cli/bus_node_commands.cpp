@@ -2,7 +2,10 @@
 // the node can run (kBusNodeChoices).
 #include <fmt/format.h>
 
+#include <cmath>
+#include <exception>
 #include <ostream>
+#include <string>
 
 #include "command.hpp"
 #include "model_options.hpp"
@@ -66,7 +69,7 @@ class ReplayCommand : public Command {
         ->required();
     replay.add_option("--bus", request_.bus, "loopback | a SocketCAN interface such as vcan0")
         ->capture_default_str();
-    replay.add_option("--rate", rate_, "max | realtime")->capture_default_str();
+    replay.add_option("--pace", pace_, "max | realtime")->capture_default_str();
     replay.add_option("--output", request_.output_path, "CSV file to write")->required();
     replay.add_option("--output-log", request_.output_log_path,
                       "also write every frame on the bus as a candump log");
@@ -86,6 +89,11 @@ class ReplayCommand : public Command {
                     "frames sent on stderr once a second (default: on a terminal)");
     model_.add_to(replay, request_.setup, kNodeSceneHelp);
     recording_.add_to(replay, false, false);
+    replay
+        .add_option("--rate", rate_,
+                    "text without a time column: sample rate, Hz (max | realtime: --pace, as "
+                    "spelt before)")
+        ->group("Recording");
   }
 
   int run(CLI::App& replay, std::ostream& out, std::ostream& err) override {
@@ -99,15 +107,16 @@ class ReplayCommand : public Command {
     node_.apply(request);
     if (model.scene_dt_s() > 0.0 && !given(replay, "--dt")) request.log_dt_s = model.scene_dt_s();
     request.log_dt_given = given(replay, "--dt") || model.scene_dt_s() > 0.0;
-    if (rate_ == "realtime") {
+    const std::string pace = resolve_pace(replay, request.recording);
+    if (pace == "realtime") {
       request.realtime = true;
-    } else if (rate_ != "max") {
-      throw UsageError("--rate: unknown rate '" + rate_ + "' (expected max or realtime)");
+    } else if (pace != "max") {
+      throw UsageError("--pace: unknown pace '" + pace + "' (expected max or realtime)");
     }
     std::function<void(std::uint64_t, std::uint64_t)> progress = make_frame_progress(
         err, "replay", progress_ || stderr_is_terminal(err),
         request.realtime ? fmt::format("replay: streaming {} over {} in real time: as long as the "
-                                       "recording lasts (--rate max does not wait)",
+                                       "recording lasts (--pace max does not wait)",
                                        request.input_path, request.bus)
                          : std::string());
     request.progress = bus_progress(progress);
@@ -125,9 +134,33 @@ class ReplayCommand : public Command {
   }
 
  private:
+  // --rate HZ is the recording's sample rate, as on every command that reads one; --rate max and
+  // --rate realtime, words that no rate can be, stay the pace they named before --pace.
+  std::string resolve_pace(CLI::App& replay, RecordingOptions& recording) const {
+    if (!given(replay, "--rate")) return pace_;
+    if (rate_ == "max" || rate_ == "realtime") {
+      if (given(replay, "--pace") && pace_ != rate_)
+        throw UsageError("--rate " + rate_ + " and --pace " + pace_ + ": give one pace");
+      return rate_;
+    }
+    double rate_hz = 0.0;
+    std::size_t used = 0;
+    try {
+      rate_hz = std::stod(rate_, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != rate_.size() || !std::isfinite(rate_hz) || !(rate_hz > 0.0)) {
+      throw UsageError("--rate: '" + rate_ +
+                       "' is neither a sample rate > 0 (Hz) nor max or realtime (the pace)");
+    }
+    recording.rate_hz = rate_hz;
+    return pace_;
+  }
+
   ReplayRequest request_;
   NodeOptions node_;
-  std::string rate_ = "max";
+  std::string pace_ = "max", rate_;
   bool progress_ = false;
   ModelOptions model_{kBusNodeChoices};
   RecordingOptionGroup recording_;

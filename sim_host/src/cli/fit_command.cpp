@@ -8,11 +8,13 @@
 #include <vector>
 
 #include "command.hpp"
+#include "recording_options.hpp"
 #include "stickslip/host/cli/cli.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/rig_recording.hpp"
 #include "stickslip/host/run/fit.hpp"
 #include "stickslip/host/run/fit_report.hpp"
+#include "stickslip/host/run/rig_source.hpp"
 
 namespace stickslip::host {
 namespace {
@@ -68,8 +70,9 @@ class FitCommand : public Command {
  public:
   void add_options(CLI::App& fit) override {
     fit.add_option("--input", input_,
-                   "rig recording with columns t (s), a_u and a_x (m/s^2), optionally x_r (m); "
-                   "any delimited text the readers accept")
+                   "rig recording: columns t (s), a_u and a_x (m/s^2), optionally x_r (m); or "
+                   "any text or CAN log the readers accept, its channels named by the options "
+                   "under Recording")
         ->required();
     fit.add_option("--model", model_, "stick-slip | stribeck | linear | signum")
         ->default_str("stick-slip");
@@ -91,6 +94,21 @@ class FitCommand : public Command {
                    "Levenberg-Marquardt iterations before the fit gives up (default 100)")
         ->check(at_least_one());
     fit.add_option("--plot", plot_, "write the a_x residual against t as a PNG here (gnuplot)");
+    recording_.add_to(fit);
+    fit.add_option("--ax-signal", rig_options_.ax_signal,
+                   "the seat acceleration a_x: column name or 1-based index (default a_x); CAN "
+                   "log: MESSAGE.SIGNAL with --dbc")
+        ->group("Recording");
+    fit.add_option("--ax-unit", rig_options_.ax_unit,
+                   "g | m/s^2 | mm/s^2: a_x's unit over the header's or DBC's")
+        ->group("Recording");
+    fit.add_option("--travel-signal", rig_options_.travel_signal,
+                   "the seat travel x_r: column name or index (default: a column x_r if there "
+                   "is one); CAN log: MESSAGE.SIGNAL")
+        ->group("Recording");
+    fit.add_option("--travel-unit", rig_options_.travel_unit,
+                   "m | mm | cm | um: x_r's unit over the header's or DBC's")
+        ->group("Recording");
   }
 
   int run(CLI::App&, std::ostream& out, std::ostream& err) override {
@@ -110,7 +128,15 @@ class FitCommand : public Command {
       throw UsageError("--plot: the file name must not contain quotes");
     if (!plot_.empty() && !gnuplot_available())
       throw HostError("--plot: gnuplot is not installed (tools/install-deps.sh --report)");
-    const RigRecording rig = read_rig_recording(input_);
+    RigSourceOptions rig_options = rig_options_;
+    rig_options.recording = recording_.resolve();
+    check_unit("--ax-unit", rig_options.ax_unit, Quantity::acceleration);
+    check_unit("--travel-unit", rig_options.travel_unit, Quantity::length);
+    const RigSource source = read_rig_source(input_, rig_options);
+    const RigRecording& rig = source.rig;
+    print_recording_report(err, input_, source.a_u);
+    print_recording_report(err, input_, source.a_x);
+    if (rig.has_travel()) print_recording_report(err, input_, source.x_r);
     const FitResult result = fit_seat(rig, request);
     if (!result.converged) {
       err << fmt::format(
@@ -131,6 +157,15 @@ class FitCommand : public Command {
     return false;
   }
 
+  static void check_unit(const char* option, const std::string& unit, Quantity quantity) {
+    double factor = 0.0;
+    if (!unit.empty() && !unit_factor(quantity, unit, factor)) {
+      throw UsageError(
+          fmt::format("{}: '{}' is not {}", option, unit,
+                      quantity == Quantity::length ? "m, mm, cm or um" : "g, m/s^2 or mm/s^2"));
+    }
+  }
+
   // --start of a parameter not fitted sets its value (F_fs of a signum fit is unused).
   static void apply_fixed_values(FitRequest& request) {
     const auto& start = request.start;
@@ -147,6 +182,8 @@ class FitCommand : public Command {
   std::string input_, model_ = "stick-slip", plot_;
   std::vector<std::string> fit_, start_, lower_, upper_;
   FitRequest request_;
+  RecordingOptionGroup recording_;
+  RigSourceOptions rig_options_;
 };
 
 }  // namespace

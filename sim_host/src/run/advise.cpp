@@ -15,7 +15,9 @@ namespace {
 
 constexpr double kCostTie = 1.10;
 
-AdviseCandidate run_candidate(const AdviseRequest& request, const std::vector<double>& a_u,
+// Each part (one unless --gaps split cut the recording) run alone from rest; the figures over all
+// parts from each part's sums: rms^2 times samples for T_ax, p and the cost times steps.
+AdviseCandidate run_candidate(const AdviseRequest& request, const std::vector<SampledSignal>& parts,
                               double dt_s, FrictionModel model, Integrator integrator) {
   AdviseCandidate c;
   c.model = model;
@@ -28,11 +30,30 @@ AdviseCandidate run_candidate(const AdviseRequest& request, const std::vector<do
   setup.repetitions = request.repetitions;
   SimulationTrace<double> trace;
   try {
-    const SimulationSummary s = simulate_signal(setup, a_u, trace);
+    if (parts.size() == 1) {
+      const SimulationSummary s = simulate_signal(setup, parts.front().a_u_m_per_s2, trace);
+      c.configured = true;
+      c.transmissibility = s.transmissibility;
+      c.stick_probability = s.stick_probability;
+      c.ns_per_sample = s.ns_per_sample;
+      return c;
+    }
+    double sum_u = 0.0, sum_x = 0.0, samples = 0.0, stuck = 0.0, cost = 0.0, steps = 0.0;
+    for (const SampledSignal& part : parts) {
+      const SimulationSummary s = simulate_signal(setup, part.a_u_m_per_s2, trace);
+      c.part_transmissibility.push_back(s.transmissibility);
+      c.part_stick_probability.push_back(s.stick_probability);
+      sum_u += s.rms_u * s.rms_u * static_cast<double>(s.samples);
+      sum_x += s.rms_x * s.rms_x * static_cast<double>(s.samples);
+      samples += static_cast<double>(s.samples);
+      stuck += s.stick_probability * static_cast<double>(s.steps);
+      cost += s.ns_per_sample * static_cast<double>(s.steps);
+      steps += static_cast<double>(s.steps);
+    }
     c.configured = true;
-    c.transmissibility = s.transmissibility;
-    c.stick_probability = s.stick_probability;
-    c.ns_per_sample = s.ns_per_sample;
+    c.transmissibility = std::sqrt(sum_x / samples) / std::sqrt(sum_u / samples);
+    c.stick_probability = steps > 0.0 ? stuck / steps : 0.0;
+    c.ns_per_sample = steps > 0.0 ? cost / steps : 0.0;
   } catch (const ConfigurationError& error) {
     c.refusal = error.what();
   }
@@ -50,18 +71,21 @@ AdviseReport advise(const AdviseRequest& request) {
     throw UsageError(fmt::format("--tolerance: must be > 0, got {}", request.tolerance));
   if (!(request.params.kinetic_friction_n >= 0.0))
     throw UsageError(fmt::format("--ffk: must be >= 0, got {}", request.params.kinetic_friction_n));
-  RecordingReport recording;
-  const SampledSignal signal =
-      read_continuous_recording(request.input_path, request.recording, "advise", &recording);
+  const LoadedRecording recording = read_recording(request.input_path, request.recording);
+  const std::vector<SampledSignal>& parts = recording.segments;
+  const double dt_s = parts.front().dt_s;
   AdviseReport report;
-  report.recording_note = describe_recording(request.input_path, recording);
+  report.recording_note = describe_recording(request.input_path, recording.report);
   report.input_path = request.input_path;
-  report.dt_s = signal.dt_s;
+  report.dt_s = dt_s;
   report.tolerance = request.tolerance;
-  const std::vector<double>& a_u = signal.a_u_m_per_s2;
+  for (const SampledSignal& part : parts) {
+    report.part_t_start_s.push_back(part.t_s.front());
+    report.part_samples.push_back(part.a_u_m_per_s2.size());
+  }
 
   report.reference =
-      run_candidate(request, a_u, signal.dt_s, FrictionModel::stick_slip, Integrator::exact);
+      run_candidate(request, parts, dt_s, FrictionModel::stick_slip, Integrator::exact);
   if (!report.reference.configured) {
     throw HostError("the stick-slip reference cannot run these parameters: " +
                     report.reference.refusal);
@@ -70,8 +94,12 @@ AdviseReport advise(const AdviseRequest& request) {
   report.reference.within_tolerance = true;
   // a0u and K as the simulation measures them.
   double sum = 0.0;
-  for (double value : a_u) sum += value * value;
-  report.a0u = std::sqrt(sum / static_cast<double>(a_u.size()));
+  std::size_t samples = 0;
+  for (const SampledSignal& part : parts) {
+    for (double value : part.a_u_m_per_s2) sum += value * value;
+    samples += part.a_u_m_per_s2.size();
+  }
+  report.a0u = std::sqrt(sum / static_cast<double>(samples));
   report.k =
       den_hartog_factor(request.params.kinetic_friction_n, request.params.mass_kg, report.a0u);
 
@@ -88,7 +116,7 @@ AdviseReport advise(const AdviseRequest& request) {
   for (const auto& [model, integrator] : candidates) {
     AdviseCandidate c = (model == FrictionModel::stick_slip && integrator == Integrator::exact)
                             ? report.reference
-                            : run_candidate(request, a_u, signal.dt_s, model, integrator);
+                            : run_candidate(request, parts, dt_s, model, integrator);
     if (c.configured) {
       c.relative_error = reference > 0.0 ? std::fabs(c.transmissibility / reference - 1.0) : 0.0;
       c.within_tolerance = c.relative_error <= request.tolerance;
@@ -133,6 +161,16 @@ std::string format_advice(const AdviseReport& r) {
       r.reference.stick_probability, difference,
       r.reference.transmissibility > 0.0 ? 100.0 * difference / r.reference.transmissibility : 0.0,
       r.cheap.stick_probability - r.reference.stick_probability);
+  for (std::size_t i = 0; i < r.reference.part_transmissibility.size(); ++i) {
+    const bool cheap = i < r.cheap.part_transmissibility.size();
+    text += fmt::format(
+        "part {} from t = {} s, {} samples, run alone: reference T_ax = {:.4f}, p = {:.3f}; "
+        "signum/euler T_ax = {:.4f}, p = {:.3f}\n",
+        i + 1, r.part_t_start_s[i], r.part_samples[i], r.reference.part_transmissibility[i],
+        r.reference.part_stick_probability[i], cheap ? r.cheap.part_transmissibility[i] : 0.0,
+        cheap ? r.cheap.part_stick_probability[i] : 0.0);
+  }
+  if (!r.reference.part_transmissibility.empty()) text += "\n";
   text += fmt::format("{:<24}{:>10}{:>8}{:>13}{:>12}  {}\n", "model/integrator", "T_ax", "p",
                       "T_ax error", "ns/sample", "within");
   for (std::size_t i = 0; i < r.candidates.size(); ++i) {

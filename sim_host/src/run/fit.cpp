@@ -304,6 +304,16 @@ void measure_model(FitResult& result, const Attempt& best, const RigRecording& r
   for (std::size_t n = 0; n < samples; ++n) sum += residuals[n] * residuals[n];
   for (std::size_t n = samples; n < residuals.size(); ++n) travel += residuals[n] * residuals[n];
   result.rms_residual_m_per_s2 = std::sqrt(sum / static_cast<double>(samples));
+  for (std::size_t i = 0; rig.segment_count() > 1 && i < rig.segment_count(); ++i) {
+    FitSegment part;
+    part.t_start_s = rig.t_s[rig.segment_begin(i)];
+    part.samples = rig.segment_end(i) - rig.segment_begin(i);
+    double part_sum = 0.0;
+    for (std::size_t n = rig.segment_begin(i); n < rig.segment_end(i); ++n)
+      part_sum += residuals[n] * residuals[n];
+    part.rms_residual_m_per_s2 = std::sqrt(part_sum / static_cast<double>(part.samples));
+    result.segments.push_back(part);
+  }
   if (rig.has_travel()) {
     result.rms_travel_residual_m =
         std::sqrt(travel / static_cast<double>(samples)) / best.problem.travel_weight;

@@ -62,6 +62,50 @@ OscillatorParams fit_params(const FitProblem& problem, const double* u) {
   return params;
 }
 
+namespace {
+
+// Each part of a recording cut at its gaps starts from rest at its own first sample (v_r = 0,
+// x_r measured or 0), as the whole recording does and as simulate --gaps split runs its parts: the
+// state after a gap is unknown, and carrying the model's state over the gap would bridge it.
+// T_ax and p over all parts, from each part's sums (rms^2 times samples, p times samples).
+bool simulate_parts(const RigRecording& rig, SimulationSetup& setup, SimulationTrace<double>& run,
+                    SimulationSummary& statistics) {
+  run = SimulationTrace<double>{};
+  double sum_u = 0.0, sum_x = 0.0, stuck = 0.0, samples = 0.0;
+  for (std::size_t i = 0; i < rig.segment_count(); ++i) {
+    const auto begin = static_cast<std::ptrdiff_t>(rig.segment_begin(i));
+    const auto end = static_cast<std::ptrdiff_t>(rig.segment_end(i));
+    const std::vector<double> a_u(rig.a_u_m_per_s2.begin() + begin, rig.a_u_m_per_s2.begin() + end);
+    setup.x0_m = rig.has_travel() ? rig.x_r_m[static_cast<std::size_t>(begin)] : 0.0;
+    SimulationTrace<double> part;
+    SimulationSummary summary;
+    try {
+      summary = simulate_signal(setup, a_u, part);
+    } catch (const HostError&) {
+      return false;  // parameters configure() refuses: the solver steps back
+    }
+    run.x_r_m.insert(run.x_r_m.end(), part.x_r_m.begin(), part.x_r_m.end());
+    run.v_r_m_per_s.insert(run.v_r_m_per_s.end(), part.v_r_m_per_s.begin(), part.v_r_m_per_s.end());
+    run.a_x_m_per_s2.insert(run.a_x_m_per_s2.end(), part.a_x_m_per_s2.begin(),
+                            part.a_x_m_per_s2.end());
+    run.friction_n.insert(run.friction_n.end(), part.friction_n.begin(), part.friction_n.end());
+    run.stuck.insert(run.stuck.end(), part.stuck.begin(), part.stuck.end());
+    const auto n = static_cast<double>(summary.samples);
+    sum_u += summary.rms_u * summary.rms_u * n;
+    sum_x += summary.rms_x * summary.rms_x * n;
+    stuck += summary.stick_probability * n;
+    samples += n;
+  }
+  statistics.samples = static_cast<std::uint64_t>(samples);
+  statistics.rms_u = std::sqrt(sum_u / samples);
+  statistics.rms_x = std::sqrt(sum_x / samples);
+  statistics.transmissibility = statistics.rms_x / statistics.rms_u;
+  statistics.stick_probability = stuck / samples;
+  return true;
+}
+
+}  // namespace
+
 std::size_t fit_residual_count(const FitProblem& problem) {
   const std::size_t samples = problem.rig->a_x_m_per_s2.size();
   return problem.rig->has_travel() ? 2 * samples : samples;
@@ -73,14 +117,18 @@ bool fit_residuals(const FitProblem& problem, const double* u, std::vector<doubl
   SimulationSetup setup;
   setup.params = fit_params(problem, u);
   setup.repetitions = 1;
-  setup.x0_m = rig.has_travel() ? rig.x_r_m[0] : 0.0;
   SimulationTrace<double> local;
   SimulationTrace<double>& run = trace != nullptr ? *trace : local;
   SimulationSummary statistics;
-  try {
-    statistics = simulate_signal(setup, rig.a_u_m_per_s2, run);
-  } catch (const HostError&) {
-    return false;  // parameters configure() refuses: the solver steps back
+  if (rig.segment_count() == 1) {
+    setup.x0_m = rig.has_travel() ? rig.x_r_m[0] : 0.0;
+    try {
+      statistics = simulate_signal(setup, rig.a_u_m_per_s2, run);
+    } catch (const HostError&) {
+      return false;  // parameters configure() refuses: the solver steps back
+    }
+  } else if (!simulate_parts(rig, setup, run, statistics)) {
+    return false;
   }
   const std::size_t samples = rig.a_x_m_per_s2.size();
   residuals.resize(fit_residual_count(problem));

@@ -60,6 +60,10 @@ std::string fit_report_text(const FitResult& result) {
                       result.rms_residual_m_per_s2, result.noise_m_per_s2);
   if (result.rms_travel_residual_m > 0.0)
     text += fmt::format("rms residual x_r: {:.4g} m\n", result.rms_travel_residual_m);
+  for (const FitSegment& part : result.segments) {
+    text += fmt::format("part from t = {} s: {} samples, rms residual a_x {:.4g} m/s^2\n",
+                        part.t_start_s, part.samples, part.rms_residual_m_per_s2);
+  }
   text += fmt::format("T_ax: measured {:.4f}, model {:.4f}\n", result.transmissibility_measured,
                       result.transmissibility_model);
   text += fmt::format("p (share of time stuck): measured {:.4f}, model {:.4f}\n",
@@ -93,6 +97,16 @@ std::string fit_json(const FitResult& result) {
   json["iterations"] = result.iterations;
   json["seconds"] = result.seconds;
   json["converged"] = result.converged;
+  if (!result.segments.empty()) {  // --gaps split: each part, simulated alone
+    auto& parts = json["segments"] = nlohmann::ordered_json::array();
+    for (const FitSegment& segment : result.segments) {
+      nlohmann::ordered_json part;
+      part["t_start_s"] = segment.t_start_s;
+      part["samples"] = segment.samples;
+      part["rms_residual"] = segment.rms_residual_m_per_s2;
+      parts.push_back(part);
+    }
+  }
   return json.dump();
 }
 

@@ -66,7 +66,7 @@ Timing describe_times(const std::vector<double>& t) {
       jitter = std::max(jitter, std::fabs(step - h) / h);
     }
   }
-  timing.uniform = jitter <= kJitterTolerance;
+  timing.uniform = steps_uniform(jitter, h, t.front(), t.back());
   timing.text = fmt::format(
       "  samples {}, from t = {} s to {} s ({:.6g} s)\n  rate {:.6g} Hz (the mean step); step "
       "min/median/max {:.6g} / {:.6g} / {:.6g} s; jitter {:.3g} % of the mean step ({})\n",

@@ -18,6 +18,7 @@ struct RawSeries {
   std::vector<std::size_t> lines;   // text: the file's line of each sample (messages name it)
   std::vector<std::size_t> frames;  // CAN log: each sample's frame (SignalSeries::frames)
   bool frame_lines = false;         // frames are lines of a text log, not places in a BLF
+  std::vector<double> f_a_n;        // text: a column f_a (actuator force, N), when there is one
 };
 
 // Text (delimited_text.hpp) or a CAN log with a DBC (can_signal.hpp), as `options` select.

@@ -86,6 +86,15 @@ RawSeries read_text_series(const std::string& path, const RecordingOptions& opti
   }
   raw.values = signal->values;
   raw.lines = table.row_lines;
+  // The actuator force column, by its exact name as the t,a_u CSV reader takes it (csv_reader.hpp).
+  for (const TextChannel& channel : table.channels) {
+    if (channel.name != "f_a" || &channel == signal || &channel == time) continue;
+    if (!channel.unit.empty() && channel.unit != "N") {
+      throw HostError(fmt::format("{}: column 'f_a' (the actuator force) is in '{}'; N expected",
+                                  path, channel.unit));
+    }
+    raw.f_a_n = channel.values;
+  }
   raw.unit = options.unit.empty() ? signal->unit : options.unit;
   raw.source = fmt::format("text column {}", signal->name);
   if (time == nullptr) {
@@ -174,8 +183,11 @@ LoadedRecording read_recording(const std::string& path, const RecordingOptions& 
     throw UsageError("--time and --rate: give one of them");
   if (!options.unit.empty()) {
     double factor = 0;
-    if (!acceleration_unit_factor(options.unit, factor))
-      throw UsageError("--unit: '" + options.unit + "' is not g, m/s^2 or mm/s^2");
+    if (!unit_factor(options.quantity, options.unit, factor)) {
+      throw UsageError(options.quantity == Quantity::length
+                           ? "travel unit: '" + options.unit + "' is not m, mm, cm or um"
+                           : "--unit: '" + options.unit + "' is not g, m/s^2 or mm/s^2");
+    }
   }
   LoadedRecording loaded;
   RawSeries raw;
@@ -217,8 +229,9 @@ SampledSignal read_continuous_recording(const std::string& path, const Recording
                                         const char* command, RecordingReport* report) {
   if (options.gaps == GapPolicy::split) {
     throw UsageError(std::string("--gaps split: ") + command +
-                     " needs one continuous signal; use --gaps hold, or simulate, which runs "
-                     "each part alone");
+                     " streams one continuous signal (a SeatInput frame per sample, which the node "
+                     "steps through as one run); use --gaps hold, or simulate, which runs each "
+                     "part alone");
   }
   LoadedRecording loaded = read_recording(path, options);
   if (report != nullptr) *report = loaded.report;
@@ -237,6 +250,33 @@ bool acceleration_unit_factor(const std::string& unit, double& factor) {
     return false;
   }
   return true;
+}
+
+bool length_unit_factor(const std::string& unit, double& factor) {
+  const std::string u = lower(unit);
+  if (u.empty() || u == "m") {
+    factor = 1.0;
+  } else if (u == "mm") {
+    factor = 1e-3;
+  } else if (u == "cm") {
+    factor = 1e-2;
+  } else if (u == "um" || u == "\xc2\xb5m" || u == "\xce\xbcm") {
+    factor = 1e-6;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool unit_factor(Quantity quantity, const std::string& unit, double& factor) {
+  return quantity == Quantity::length ? length_unit_factor(unit, factor)
+                                      : acceleration_unit_factor(unit, factor);
+}
+
+bool steps_uniform(double jitter, double step_s, double t_first_s, double t_last_s) noexcept {
+  const double largest = std::max(std::fabs(t_first_s), std::fabs(t_last_s));
+  const double spacing = std::nextafter(largest, HUGE_VAL) - largest;
+  return jitter <= kJitterTolerance || jitter * step_s <= 2.0 * spacing;
 }
 
 bool parse_gap_policy(const std::string& text, GapPolicy& policy) {

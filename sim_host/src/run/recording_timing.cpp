@@ -82,7 +82,7 @@ SampledSignal onto_model_step(const std::string& path, Part part, double step,
   const std::size_t n = part.t_s.size();
   SampledSignal signal;
   const double jitter = part_jitter(part, step);
-  const bool uniform = jitter <= kJitterTolerance;
+  const bool uniform = steps_uniform(jitter, step, part.t_s.front(), part.t_s.back());
   if (!uniform && !(options.dt_s > 0)) {
     throw HostError(fmt::format(
         "{}: the sample times jitter by up to {:.3g} % of the {:.6g} s step; give --dt S to put "
@@ -167,7 +167,12 @@ std::vector<SampledSignal> condition_series(const std::string& path, RawSeries r
   report.source = raw.source;
   report.samples_read = raw.t_s.size();
   report.frames_too_short = raw.frames_too_short;
-  if (!acceleration_unit_factor(raw.unit, report.unit_factor)) {
+  if (options.quantity == Quantity::length) {
+    if (!length_unit_factor(raw.unit, report.unit_factor)) {
+      throw HostError(fmt::format("{}: {} has unit '{}', not a length (m, mm, cm, um)", path,
+                                  raw.source, raw.unit));
+    }
+  } else if (!acceleration_unit_factor(raw.unit, report.unit_factor)) {
     throw HostError(
         fmt::format("{}: {} has unit '{}', not an acceleration (g, m/s^2, mm/s^2); "
                     "give --unit to read it as one",
@@ -207,6 +212,16 @@ std::vector<SampledSignal> condition_series(const std::string& path, RawSeries r
   }
   if (segments.empty()) throw HostError(path + ": no part between the gaps has 2 samples");
   report.segments = segments.size();
+  // The force stays with its samples only when they are the file's own: one part, nothing held,
+  // regridded or resampled.
+  if (!raw.f_a_n.empty()) {
+    if (segments.size() == 1 && report.held_samples == 0 && report.regridded_samples == 0 &&
+        !report.resampled && segments.front().a_u_m_per_s2.size() == raw.f_a_n.size()) {
+      segments.front().f_a_n = std::move(raw.f_a_n);
+    } else {
+      report.actuator_force_unaligned = true;
+    }
+  }
   return segments;
 }
 

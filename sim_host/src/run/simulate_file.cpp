@@ -270,6 +270,11 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   SimulationSetup setup = request.setup;
   setup.params.dt_s = dt_s;
   const std::vector<double>& f_a_n = recording.segments.front().f_a_n;
+  if (recording.report.actuator_force_unaligned) {
+    throw UsageError(request.input_path +
+                     ": column 'f_a': an actuator force runs on a recording read as it is (one "
+                     "part, its own step: no gaps held or split, no regridding, no resampling)");
+  }
   if (!f_a_n.empty()) {
     if (setup.effects & kEndStops) {
       throw UsageError(request.input_path +

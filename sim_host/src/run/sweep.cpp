@@ -32,8 +32,15 @@ constexpr std::size_t kBatchLanes = 8;
 
 struct Recording {
   std::string name;
-  SampledSignal signal;
-  double a0u = 0.0;  // RMS as RunningStatistics measures it
+  SampledSignal signal;  // --gaps split: the parts end to end
+  double a0u = 0.0;      // RMS as RunningStatistics measures it
+  // --gaps split: the first sample of each part after the first; each part runs from rest, and
+  // the statistics sum over all parts (RMS by samples, p by steps, as simulate reports them).
+  std::vector<std::size_t> part_starts;
+  bool part_starts_at(std::size_t n, std::size_t& next) const noexcept {
+    if (next < part_starts.size() && part_starts[next] == n) return ++next, true;
+    return false;
+  }
 };
 
 struct Point {
@@ -106,8 +113,16 @@ std::vector<Recording> load(const SweepRequest& r, std::vector<std::string>& not
   for (const std::string& path : r.inputs) {
     Recording recording;
     recording.name = path;
-    RecordingReport report;
-    recording.signal = read_continuous_recording(path, r.recording, "sweep", &report);
+    LoadedRecording loaded = read_recording(path, r.recording);
+    const RecordingReport& report = loaded.report;
+    recording.signal = std::move(loaded.segments.front());
+    for (std::size_t i = 1; i < loaded.segments.size(); ++i) {
+      const SampledSignal& part = loaded.segments[i];
+      recording.part_starts.push_back(recording.signal.a_u_m_per_s2.size());
+      recording.signal.t_s.insert(recording.signal.t_s.end(), part.t_s.begin(), part.t_s.end());
+      recording.signal.a_u_m_per_s2.insert(recording.signal.a_u_m_per_s2.end(),
+                                           part.a_u_m_per_s2.begin(), part.a_u_m_per_s2.end());
+    }
     const std::string note = describe_recording(path, report);
     if (!note.empty()) notes.push_back(note);
     recording.a0u = rms_of(recording.signal.a_u_m_per_s2);
@@ -131,6 +146,9 @@ std::vector<Point> all_points(const SweepRequest& r, const std::vector<Recording
     hash = hash_text(hash, recording.name);
     hash = hash_double(hash, recording.a0u);
     hash = hash_double(hash, static_cast<double>(recording.signal.a_u_m_per_s2.size()));
+    // Split parts run otherwise than one signal: shards of the two must not merge.
+    if (!recording.part_starts.empty())
+      hash = hash_double(hash, static_cast<double>(recording.part_starts.size()));
     hash = hash_double(hash, recording.signal.dt_s);
     for (double b : r.damping_ns_per_m) {
       for (const SweepMethod& method : r.methods) {
@@ -202,8 +220,14 @@ SweepRow run_single(const Point& p, const Recording& recording) {
     const double scale = p.scale;
     oscillator.reset(0.0, 0.0, scale * input[0]);
     statistics.add_sample(scale * input[0], oscillator.current().a_x_m_per_s2);
+    std::size_t next_part = 0;
     for (std::size_t n = 1; n < input.size(); ++n) {
       const double a_u = scale * input[n];
+      if (recording.part_starts_at(n, next_part)) {  // a new part: from rest, no step across
+        oscillator.reset(0.0, 0.0, a_u);
+        statistics.add_sample(a_u, oscillator.current().a_x_m_per_s2);
+        continue;
+      }
       const StepOutput<double> out = oscillator.step(a_u);
       statistics.add_sample(a_u, out.a_x_m_per_s2);
       statistics.add_step(out.stuck_fraction);
@@ -234,8 +258,17 @@ void run_batch(const Point* const* points, std::size_t count, const Recording& r
   }
   statistics->reset();
   statistics->add_sample(a_u, a_x);
+  std::size_t next_part = 0;
   for (std::size_t n = 1; n < input.size(); ++n) {
     for (std::size_t lane = 0; lane < kBatchLanes; ++lane) a_u[lane] = scale[lane] * input[n];
+    if (recording.part_starts_at(n, next_part)) {  // a new part: from rest, no step across
+      for (std::size_t lane = 0; lane < kBatchLanes; ++lane) {
+        batch->reset(lane, 0.0, 0.0, a_u[lane]);
+        a_x[lane] = batch->lane(lane).current().a_x_m_per_s2;
+      }
+      statistics->add_sample(a_u, a_x);
+      continue;
+    }
     batch->step(a_u);
     statistics->add_sample(a_u, batch->a_x_array());
     statistics->add_step(batch->stuck_fraction_array());
@@ -363,7 +396,8 @@ std::vector<SweepRow> execute(const SweepRequest& request, const Prepared& prepa
   summary.points_run = points.size();
   summary.samples = 0;
   for (const Point* p : points)
-    summary.samples += prepared.recordings[p->input].signal.a_u_m_per_s2.size() - 1;
+    summary.samples += prepared.recordings[p->input].signal.a_u_m_per_s2.size() - 1 -
+                       prepared.recordings[p->input].part_starts.size();
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   summary.threads = threads;
   return rows;

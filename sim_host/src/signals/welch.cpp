@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 
@@ -72,6 +73,35 @@ Spectrum welch_psd(const std::vector<double>& signal, double dt_s, std::size_t s
     out.frequency_hz[k] = static_cast<double>(k) / (static_cast<double>(segment) * dt_s);
   }
   return out;
+}
+
+Spectrum welch_psd_over_parts(const std::vector<const std::vector<double>*>& parts, double dt_s,
+                              std::size_t segment, std::size_t& short_samples) {
+  if (parts.size() == 1) return welch_psd(*parts.front(), dt_s, segment);
+  Spectrum total;
+  std::size_t longest = 0;
+  for (const std::vector<double>* part : parts) {
+    longest = std::max(longest, part->size());
+    if (part->size() < segment) {
+      short_samples += part->size();
+      continue;
+    }
+    const Spectrum spectrum = welch_psd(*part, dt_s, segment);
+    if (total.segments == 0) {
+      total.frequency_hz = spectrum.frequency_hz;
+      total.psd.assign(spectrum.psd.size(), 0.0);
+    }
+    for (std::size_t k = 0; k < spectrum.psd.size(); ++k)
+      total.psd[k] += spectrum.psd[k] * static_cast<double>(spectrum.segments);
+    total.segments += spectrum.segments;
+  }
+  if (total.segments == 0) {
+    throw UsageError(fmt::format(
+        "--segment: {} samples is longer than every part between the gaps (the longest has {})",
+        segment, longest));
+  }
+  for (double& value : total.psd) value /= static_cast<double>(total.segments);
+  return total;
 }
 
 }  // namespace stickslip::host

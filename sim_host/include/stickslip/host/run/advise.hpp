@@ -32,6 +32,9 @@ struct AdviseCandidate {
   double relative_error = 0.0;  // |T_ax / T_ax,ref - 1|
   double ns_per_sample = 0.0;
   bool within_tolerance = false;
+  // --gaps split: each part's T_ax and p (each part run alone from rest); the figures above are
+  // over all parts (RMS weighted by samples, p by steps, as simulate reports them).
+  std::vector<double> part_transmissibility, part_stick_probability;
 };
 
 struct AdviseReport {
@@ -45,6 +48,9 @@ struct AdviseReport {
   AdviseCandidate cheap;      // signum, euler (Simulink ode1): the model users usually run
   std::vector<AdviseCandidate> candidates;  // by cost, cheapest first
   int chosen = -1;                          // index into candidates
+  // --gaps split: each part's first time and sample count (one entry when not split)
+  std::vector<double> part_t_start_s;
+  std::vector<std::size_t> part_samples;
 };
 
 AdviseReport advise(const AdviseRequest& request);

@@ -47,6 +47,13 @@ struct FitRequest {
   int max_iterations = 100;
 };
 
+// One part of a recording cut at its gaps (--gaps split), each simulated from rest at its start.
+struct FitSegment {
+  double t_start_s = 0.0;
+  std::size_t samples = 0;
+  double rms_residual_m_per_s2 = 0.0;  // a_x
+};
+
 struct FitResult {
   std::array<bool, kFitParameterCount> fitted{};
   std::array<double, kFitParameterCount> value{};  // SI; fixed ones as given
@@ -71,6 +78,7 @@ struct FitResult {
   std::string solver_message;             // Ceres' reason for stopping
   std::vector<std::string> warnings;      // identifiability, lag, bounds reached
   std::vector<double> residual_m_per_s2;  // measured - model a_x, per sample
+  std::vector<FitSegment> segments;       // a recording split at gaps: each part; else empty
   OscillatorParams params;                // the fitted seat
 };
 

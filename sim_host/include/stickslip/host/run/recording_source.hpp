@@ -14,6 +14,9 @@
 namespace stickslip::host {
 
 enum class GapPolicy { refuse, hold, split };
+// What the signal measures: an acceleration (m/s^2; g and mm/s^2 converted) or, for a rig's
+// travel x_r, a length (m; mm converted).
+enum class Quantity { acceleration, length };
 
 struct RecordingOptions {
   std::string signal;  // text: column name or 1-based index; CAN log: MESSAGE.SIGNAL
@@ -23,6 +26,7 @@ struct RecordingOptions {
   std::string unit;    // g | m/s^2 | mm/s^2, over the header's or the DBC's unit
   GapPolicy gaps = GapPolicy::refuse;
   double dt_s = 0;  // the model's step (0: the recording's own, which must be uniform)
+  Quantity quantity = Quantity::acceleration;
   // Whether nothing was given: today's t,a_u CSV and .mat are then read exactly as before.
   bool defaults() const noexcept;
 };
@@ -32,6 +36,12 @@ inline constexpr double kGapSteps = 1.5;
 // Steps within this relative distance of the nominal step are uniform (no regridding); the same
 // tolerance as CsvReader's uniform check.
 inline constexpr double kJitterTolerance = kUniformStepTolerance;
+
+// Whether steps whose largest relative distance from the nominal `step_s` is `jitter` are
+// uniform: within kJitterTolerance, or within what times as large as t_first_s and t_last_s can
+// tell apart in a double (two of its spacings there). A candump log's seconds since the epoch
+// (about 1.8e9 s, spaced 2.4e-7 s) cannot show a 1 ms step to better than 2.4e-4 of it.
+bool steps_uniform(double jitter, double step_s, double t_first_s, double t_last_s) noexcept;
 
 struct RecordingReport {
   std::string source;  // "text column AccZ [g]", "CAN CabFloor.AccZ [g]", "t,a_u CSV"
@@ -49,7 +59,10 @@ struct RecordingReport {
   std::size_t segments = 1;
   std::size_t short_segment_samples = 0;  // --gaps split: samples of parts too short to run
   std::size_t frames_too_short = 0;       // CAN: frames of the message that cannot hold the signal
-  bool acted() const noexcept;            // anything beyond reading the samples as they are
+  // A text column f_a (actuator force) that could not stay on its samples: the signal was held,
+  // split, regridded or resampled. simulate refuses such a file; the others do not use f_a.
+  bool actuator_force_unaligned = false;
+  bool acted() const noexcept;  // anything beyond reading the samples as they are
 };
 
 struct LoadedRecording {
@@ -62,7 +75,7 @@ struct LoadedRecording {
 LoadedRecording read_recording(const std::string& path, const RecordingOptions& options);
 
 // The one segment of a recording read with gaps refused or held (--gaps split is refused with a
-// UsageError naming `command`, for commands that need one continuous signal).
+// UsageError naming `command`, for the bus commands, which stream one continuous signal).
 SampledSignal read_continuous_recording(const std::string& path, const RecordingOptions& options,
                                         const char* command, RecordingReport* report = nullptr);
 
@@ -74,6 +87,10 @@ std::string recording_report_json(const RecordingReport& report);
 
 // The parsed --unit or header unit: m/s^2 per unit; false for a unit that is no acceleration.
 bool acceleration_unit_factor(const std::string& unit, double& factor);
+// m per unit for a length (m, mm, cm, um); an empty unit is m.
+bool length_unit_factor(const std::string& unit, double& factor);
+// The factor of `unit` for `quantity` (one of the two above).
+bool unit_factor(Quantity quantity, const std::string& unit, double& factor);
 // "refuse" | "hold" | "split"
 bool parse_gap_policy(const std::string& text, GapPolicy& policy);
 

@@ -16,4 +16,11 @@ struct Spectrum {
 // `segment` is a power of two >= 8 and at most the signal's length (UsageError otherwise).
 Spectrum welch_psd(const std::vector<double>& signal, double dt_s, std::size_t segment);
 
+// Welch over the parts of a recording cut at its gaps (--gaps split), each part's PSD weighted by
+// its number of Welch segments: the average of every segment's periodogram, none across a gap.
+// A part shorter than `segment` gives none; its samples are added to `short_samples`. One part:
+// welch_psd() itself. UsageError when no part holds one segment.
+Spectrum welch_psd_over_parts(const std::vector<const std::vector<double>*>& parts, double dt_s,
+                              std::size_t segment, std::size_t& short_samples);
+
 }  // namespace stickslip::host

@@ -475,6 +475,8 @@ def run_json_keys(args):
     with open(os.path.join(scratch, "gapped.csv"), "w") as gapped:
         gapped.write("\n".join(rows[:801] + rows[901:]) + "\n")
     base = ["--input", "in.csv", "--output", "out.csv", "--repetitions", "1", "--ffk", "45"]
+    end_stops = os.path.join(os.path.abspath(args.source), "docs", "scenes",
+                             "seat-with-end-stops.toml")
     runs = {
         "simulate stick-slip": ["simulate", *base, "--model", "stick-slip"],
         "simulate stribeck": ["simulate", *base, "--model", "stribeck", "--ffs", "60"],
@@ -491,6 +493,10 @@ def run_json_keys(args):
                                   "--gaps", "split"],
         "replay": ["replay", "--input", "in.csv", "--output", "out.csv", "--model",
                    "stick-slip", "--ffk", "45"],
+        "simulate --scene end stops": ["simulate", "--input", "in.csv", "--output", "out.csv",
+                                       "--repetitions", "1", "--scene", end_stops],
+        "replay --scene end stops": ["replay", "--input", "in.csv", "--output", "out.csv",
+                                     "--scene", end_stops],
     }
     seen = {}
     failures = []

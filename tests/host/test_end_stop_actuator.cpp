@@ -135,11 +135,10 @@ TEST(EndStopActuator, SimulateWithAForceOnEndStopsMatchesTheExactSolution) {
     const SimulationSetup setup = end_stop_setup(p, s, &f_a);
     const SimulationSummary summary = simulate_signal(setup, a_u, core);
     const double a_x = relative_rms(core.a_x_m_per_s2, exact.a_x_m_per_s2);
-    const double t_ax = std::fabs(rms(core.a_x_m_per_s2) - rms(exact.a_x_m_per_s2)) /
-                        rms(exact.a_x_m_per_s2);
+    const double t_ax =
+        std::fabs(rms(core.a_x_m_per_s2) - rms(exact.a_x_m_per_s2)) / rms(exact.a_x_m_per_s2);
     const double duration = kDt * static_cast<double>(a_u.size() - 1);
-    const double p_error =
-        std::fabs(summary.stick_probability - exact.stuck_time_s / duration);
+    const double p_error = std::fabs(summary.stick_probability - exact.stuck_time_s / duration);
     print(c.what, a_x, t_ax, p_error);
     if (std::getenv("STICKSLIP_TEST_MARGINS") != nullptr)
       std::printf(" stuck %.3f of the time, %llu events, %llu contacts",

@@ -118,6 +118,10 @@ SimulationSummary simulate_reference(const SimulationSetup& setup, const std::ve
       seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
   summary.repetitions = repetitions;
   summary.events = result.events;
+  if (setup.effects & kEndStops) {
+    summary.end_stops = true;
+    summary.end_stop_contacts = result.contacts;
+  }
   trace.x_r_m = std::move(result.x_r_m);
   trace.v_r_m_per_s = std::move(result.v_r_m_per_s);
   trace.a_x_m_per_s2 = std::move(result.a_x_m_per_s2);

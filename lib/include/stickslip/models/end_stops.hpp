@@ -66,6 +66,9 @@ class EndStopOscillator {
   static constexpr int kBudget = kMaxEventsPerStep;
 
  public:
+  using Scalar = T;
+  using FrictionLaw = Law;
+
   ConfigResult configure(const OscillatorParams& seat, const EndStopParams& stops) noexcept {
     DiscreteModel free_model, contact_model;
     ConfigResult result = check_end_stops(seat, stops, free_model, contact_model);
@@ -215,6 +218,11 @@ class EndStopOscillator {
   T x_r() const noexcept { return x_; }
   T v_r() const noexcept { return v_; }
   int contact() const noexcept { return contact_; }
+  // The stop's force on the seat at the current state (0 in the free stroke), N.
+  T stop_force_n() const noexcept {
+    return contact_ == 0 ? T(0)
+                         : stop_stiffness_ * (x_ - travel_ * T(contact_)) + stop_damping_ * v_;
+  }
   const StopContacts<T>& last_step_contacts() const noexcept { return contacts_last_; }
   bool stuck() const noexcept { return kSticking && direction_ == T(0); }
   std::uint64_t contacts() const noexcept { return contacts_; }

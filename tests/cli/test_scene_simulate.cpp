@@ -166,7 +166,7 @@ TEST(SceneSimulate, ReplayWithEndStopsEqualsSimulateBitForBit) {
 // contacts; without the column the run is another one.
 TEST(SceneSimulate, EndStopSceneTakesAnActuatorForceColumn) {
   const std::string hard = dir.file("hard.csv"), forced = dir.file("forced.csv");
-  CHECK_EQUAL(0, test::run_stickslip({"generate", "--kind", "lorry", "--rms", "3", "--duration",
+  CHECK_EQUAL(0, test::run_stickslip({"generate", "--kind", "lorry", "--rms", "4", "--duration",
                                       "20", "--dt", "0.001", "--output", hard})
                      .status);
   const test::Table floor = test::read_table(hard);

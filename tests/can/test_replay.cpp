@@ -12,6 +12,7 @@
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/bus/bus_commands.hpp"
 #include "stickslip/host/io/csv_reader.hpp"
+#include "stickslip/host/io/scene_file.hpp"
 #include "stickslip/port/loopback_transport.hpp"
 #include "support/cli_run.hpp"
 #include "support/host_test_support.hpp"
@@ -248,6 +249,57 @@ TEST(EcuCommand, NodeAloneWritesWhatReplayWritesForTheSameFrames) {
   LONGS_EQUAL(0, result.faults.faults());
   CHECK_TRUE(stickslip::test::read_text(dir.file("replay.csv")) ==
              stickslip::test::read_text(request.output_path));
+}
+
+// `ecu --scene docs/scenes/seat-with-end-stops.toml` needs a CAN interface; here its node runs
+// on the in-process loopback bus with the setup that scene gives (read as the CLI reads it), fed
+// the frames of a recording hard enough to reach the stops: its CSV equals replay's with the
+// same scene, and it reports the same end-stop contacts.
+TEST(EcuCommand, NodeAloneRunsAnEndStopSceneAsReplayDoes) {
+  std::string scene_path = STICKSLIP_DBC_PATH;
+  scene_path.replace(scene_path.find("can/stickslip.dbc"), std::string::npos,
+                     "scenes/seat-with-end-stops.toml");
+  const host::Scene scene = host::read_scene_file(scene_path);
+  const std::string lorry = dir.file("lorry.csv");
+  LONGS_EQUAL(0, run_stickslip({"generate", "--kind", "lorry", "--rms", "4", "--duration", "10",
+                                "--dt", "0.001", "--seed", "2", "--output", lorry})
+                     .status);
+  const CliRun replay = run_stickslip(
+      {"replay", "--input", lorry, "--output", dir.file("replay.csv"), "--scene", scene_path});
+  LONGS_EQUAL_TEXT(0, replay.status, replay.err.c_str());
+  const host::BusRecording recording = host::frames_from_csv(lorry);
+  host::EcuRequest request;
+  request.bus = "loopback";
+  request.setup.params = scene.params;
+  request.setup.params.dt_s = 0.001;
+  request.setup.effects = scene.effects;
+  request.setup.stops = scene.stops;
+  request.max_frames = recording.frames.size();
+  request.output_path = dir.file("ecu.csv");
+  auto tester = port::make_loopback_transport();
+  CHECK(tester->open("loopback") == port::TransportStatus::ok);
+  const port::ReceiveFilter motion{can::kSeatMotion.id, can::kStandardIdMask};
+  tester->set_filters(&motion, 1);
+  host::EcuResult result;
+  std::thread ecu([&] { result = host::run_ecu(request); });
+  for (int wait = 0; wait < 1000 && port::loopback_endpoints() < 2; ++wait)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  LONGS_EQUAL(2, port::loopback_endpoints());
+  std::uint64_t answered = 0;
+  for (const can::Frame& frame : recording.frames) {
+    CHECK(tester->send(frame) == port::TransportStatus::ok);
+    can::Frame answer;
+    answered += tester->receive(answer, 1000) == port::TransportStatus::ok;
+  }
+  ecu.join();
+  LONGS_EQUAL(recording.frames.size(), answered);
+  LONGS_EQUAL(0, result.faults.faults());
+  CHECK_TRUE(stickslip::test::read_text(dir.file("replay.csv")) ==
+             stickslip::test::read_text(request.output_path));
+  const auto json = nlohmann::json::parse(result.json);
+  const int contacts = last_json_line(replay.out)["end_stop_contacts"].get<int>();
+  CHECK_TRUE(contacts > 5);
+  LONGS_EQUAL(contacts, json["end_stop_contacts"].get<int>());
 }
 
 TEST(EcuCommand, StopFlagEndsTheRun) {

@@ -2,7 +2,10 @@
 // file, end stops limit the stroke, and a scene's sample rate must match the recording's.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -131,9 +134,82 @@ TEST(SceneSimulate, ReplayTakesTheSceneAndChecksItsCanIds) {
                            "--output", dir.file("x.csv")});
   CHECK_EQUAL(2, refused.status);
   STRCMP_CONTAINS("input_id = 0x123", refused.err.c_str());
-  const test::CliRun stops =
-      test::run_stickslip({"replay", "--scene", scene_path("seat-with-end-stops.toml"), "--input",
-                           input, "--bus", "loopback", "--output", dir.file("y.csv")});
-  CHECK_EQUAL(2, stops.status);
-  STRCMP_CONTAINS("without end stops", stops.err.c_str());
+}
+
+// replay runs the end-stop scene through the ECU node's observer (the loopback bus the node
+// speaks on a CAN interface too): its trace equals simulate's on the same (quantised) samples, bit
+// for bit, and both report the same contacts.
+TEST(SceneSimulate, ReplayWithEndStopsEqualsSimulateBitForBit) {
+  const std::string hard = dir.file("hard.csv");
+  CHECK_EQUAL(0, test::run_stickslip({"generate", "--kind", "lorry", "--rms", "4", "--duration",
+                                      "20", "--dt", "0.001", "--output", hard})
+                     .status);
+  for (const char* scalar : {"double", "float"}) {
+    const std::string replayed = dir.file("replayed.csv"), simulated = dir.file("simulated.csv");
+    const test::CliRun replay =
+        test::run_stickslip({"replay", "--scene", scene_path("seat-with-end-stops.toml"), "--input",
+                             hard, "--bus", "loopback", "--scalar", scalar, "--output", replayed});
+    LONGS_EQUAL_TEXT(0, replay.status, replay.err.c_str());
+    const test::CliRun simulate = test::run_stickslip(
+        {"simulate", "--scene", scene_path("seat-with-end-stops.toml"), "--input", replayed,
+         "--scalar", scalar, "--output", simulated, "--repetitions", "1"});
+    LONGS_EQUAL_TEXT(0, simulate.status, simulate.err.c_str());
+    CHECK_TEXT(test::read_text(replayed) == test::read_text(simulated), scalar);
+    const nlohmann::json on_bus = stats_of(replay), offline = stats_of(simulate);
+    CHECK_TEXT(on_bus["end_stop_contacts"].get<int>() > 10, scalar);
+    CHECK_EQUAL(offline["end_stop_contacts"].get<int>(), on_bus["end_stop_contacts"].get<int>());
+  }
+}
+
+// An f_a column drives the seat with end stops: simulate's core run agrees with the reference
+// with the same force (--integrator reference) to 1e-9 relative RMS of a_x, with the same
+// contacts; without the column the run is another one.
+TEST(SceneSimulate, EndStopSceneTakesAnActuatorForceColumn) {
+  const std::string hard = dir.file("hard.csv"), forced = dir.file("forced.csv");
+  CHECK_EQUAL(0, test::run_stickslip({"generate", "--kind", "lorry", "--rms", "4", "--duration",
+                                      "20", "--dt", "0.001", "--output", hard})
+                     .status);
+  const test::Table floor = test::read_table(hard);
+  std::string text = "t,a_u,f_a\n";
+  char row[128];
+  for (std::size_t n = 0; n < floor.rows.size(); ++n) {
+    const double t = floor.rows[n][0];
+    // Steps every 0.25 s (beyond F_fs = 30 N) and a slow sine: what an actuator holds.
+    const double f_a = (static_cast<long>(t / 0.25) % 2 == 0 ? 45.0 : -45.0) +
+                       20.0 * std::sin(2.0 * 3.14159265358979 * 0.7 * t);
+    std::snprintf(row, sizeof row, "%.17g,%.17g,%.17g\n", t, floor.rows[n][1], f_a);
+    text += row;
+  }
+  test::write_text(forced, text);
+  const std::string core = dir.file("core.csv"), exact = dir.file("exact.csv");
+  const test::CliRun run =
+      test::run_stickslip({"simulate", "--scene", scene_path("seat-with-end-stops.toml"), "--input",
+                           forced, "--output", core, "--repetitions", "1"});
+  LONGS_EQUAL_TEXT(0, run.status, run.err.c_str());
+  const test::CliRun reference = test::run_stickslip(
+      {"simulate", "--scene", scene_path("seat-with-end-stops.toml"), "--input", forced, "--output",
+       exact, "--repetitions", "1", "--integrator", "reference"});
+  LONGS_EQUAL_TEXT(0, reference.status, reference.err.c_str());
+  const std::vector<double> a_x = test::column(test::read_table(core), 4);
+  const std::vector<double> a_ref = test::column(test::read_table(exact), 4);
+  CHECK_EQUAL(a_ref.size(), a_x.size());
+  double error = 0.0, norm = 0.0;
+  for (std::size_t n = 0; n < a_ref.size(); ++n) {
+    error += (a_x[n] - a_ref[n]) * (a_x[n] - a_ref[n]);
+    norm += a_ref[n] * a_ref[n];
+  }
+  const double relative = std::sqrt(error / norm);
+  if (std::getenv("STICKSLIP_TEST_MARGINS") != nullptr)
+    std::printf("\n    [figure] end-stop scene with f_a vs reference: a_x relative RMS %.3e",
+                relative);
+  CHECK_TRUE(relative <= 1e-9);
+  const int contacts = stats_of(run)["end_stop_contacts"].get<int>();
+  CHECK_TRUE(contacts > 10);
+  CHECK_EQUAL(stats_of(reference)["end_stop_contacts"].get<int>(), contacts);
+  // The force matters: the passive run on the same floor is another one.
+  const std::string passive = dir.file("passive.csv");
+  CHECK_EQUAL(0, test::run_stickslip({"simulate", "--scene", scene_path("seat-with-end-stops.toml"),
+                                      "--input", hard, "--output", passive, "--repetitions", "1"})
+                     .status);
+  CHECK_FALSE(test::read_text(passive) == test::read_text(core));
 }

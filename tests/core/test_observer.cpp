@@ -250,3 +250,37 @@ TEST(Observer, RegimeChangesAtTheDocumentedThresholdsOnAKSweep) {
   CHECK_TRUE(k_at_change[0] > kSignumSufficesBelowK + 0.05 && k_at_change[0] < 0.5);
   CHECK_TRUE(k_at_change[1] > kStickSlipRequiredAboveK + 0.05 && k_at_change[1] < 0.86);
 }
+
+// With end stops (kEndStops) the estimate is EndStopOscillator's step, bit for bit, through
+// contacts; the friction measured from the seat's acceleration takes off the stop's force, so a
+// measurement equal to the model's a_x gives back the model's friction force while slipping.
+TEST(Observer, EndStopObserverEstimateIsTheEndStopModelsStep) {
+  const std::vector<double> a = lorry(20001, 4.0);
+  static Observer<double, CoulombStickSlip, 10, true, true> observer;
+  EndStopOscillator<double, CoulombStickSlip> seat;
+  ObserverParams p = observer_params(30.0);
+  p.stops.travel_m = 0.02;
+  CHECK_TRUE(observer.configure(p).ok());
+  CHECK_TRUE(seat.configure(p.model, p.stops).ok());
+  observer.reset(a[0]);
+  seat.reset(0.0, 0.0, a[0]);
+  int contact_slips = 0;
+  for (std::size_t n = 1; n < a.size(); ++n) {
+    const StepOutput<double> want = seat.step(a[n]);
+    const ObserverEstimate<double>& got = observer.update(a[n], want.a_x_m_per_s2);
+    CHECK_EQUAL(want.x_r_m, got.model.x_r_m);
+    CHECK_EQUAL(want.v_r_m_per_s, got.model.v_r_m_per_s);
+    CHECK_EQUAL(want.a_x_m_per_s2, got.model.a_x_m_per_s2);
+    CHECK_EQUAL(want.friction_n, got.model.friction_n);
+    CHECK_EQUAL(want.stuck, got.model.stuck);
+    if (!want.stuck && seat.contact() != 0) {
+      ++contact_slips;
+      // m a_x + k x + b v + F_stop + F_f = 0 while slipping, rounded in each of its five terms
+      // (forces of up to a few kN at the stops): 1e-9 N.
+      DOUBLES_EQUAL(want.friction_n, got.measured_friction_n, 1e-9);
+    }
+  }
+  CHECK_TRUE(seat.contacts() > 10);
+  CHECK_EQUAL(seat.contacts(), observer.model().contacts());
+  CHECK_TRUE(contact_slips > 100);
+}

@@ -475,6 +475,14 @@ def run_json_keys(args):
     with open(os.path.join(scratch, "gapped.csv"), "w") as gapped:
         gapped.write("\n".join(rows[:801] + rows[901:]) + "\n")
     base = ["--input", "in.csv", "--output", "out.csv", "--repetitions", "1", "--ffk", "45"]
+    # A scene with end stops (as docs/scenes/seat-with-end-stops.toml), written here so that the
+    # runner needs nothing of the source tree but its README.
+    end_stops = os.path.join(scratch, "stops.toml")
+    with open(end_stops, "w") as scene:
+        scene.write('[scene]\neffects = ["spring", "damper", "coulomb", "static_friction", '
+                    '"end_stops"]\n[seat]\nkinetic_friction_n = 30\nstatic_friction_n = 30\n'
+                    '[end_stops]\ntravel_m = 0.05\nstiffness_n_per_m = 200000\n'
+                    'damping_ns_per_m = 2000\n')
     runs = {
         "simulate stick-slip": ["simulate", *base, "--model", "stick-slip"],
         "simulate stribeck": ["simulate", *base, "--model", "stribeck", "--ffs", "60"],
@@ -491,6 +499,10 @@ def run_json_keys(args):
                                   "--gaps", "split"],
         "replay": ["replay", "--input", "in.csv", "--output", "out.csv", "--model",
                    "stick-slip", "--ffk", "45"],
+        "simulate --scene end stops": ["simulate", "--input", "in.csv", "--output", "out.csv",
+                                       "--repetitions", "1", "--scene", end_stops],
+        "replay --scene end stops": ["replay", "--input", "in.csv", "--output", "out.csv",
+                                     "--scene", end_stops],
     }
     seen = {}
     failures = []

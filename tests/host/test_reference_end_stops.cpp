@@ -2,7 +2,8 @@
 // Dormand-Prince 5(4) with dense output (tolerances 1e-14 relative, 1e-17 absolute) on the
 // piecewise right-hand side, restarted at every sample and every event; contact, release and
 // v_r = 0 found by scanning the dense output and bisecting it, break-away by bisection on
-// |F_L| = F_fs - no closed form, no Newton, no shared code. Worst errors are printed with
+// |F_L| = F_fs - no closed form, no Newton, no shared code; with an actuator force, its f_a/m
+// enters the right-hand side as written (held over each interval). Worst errors are printed with
 // STICKSLIP_TEST_MARGINS=1.
 #include <algorithm>
 #include <array>
@@ -54,7 +55,7 @@ void land(const System& system, const State& from, double t0, double t1, State& 
 // is smooth there), restarted at every sample and event. The dense output only locates instants;
 // the state there is integrated again from the start of its step.
 Solution dopri5_solution(const OscillatorParams& p, const EndStopParams& s,
-                         const std::vector<double>& a_u) {
+                         const std::vector<double>& a_u, const std::vector<double>* f_a = nullptr) {
   const bool sticking = p.model == FrictionModel::stick_slip;
   const double dt = p.dt_s, m = p.mass_kg, k = p.stiffness_n_per_m, b = p.damping_ns_per_m;
   const double fk = sticking ? p.kinetic_friction_n : 0.0,
@@ -70,25 +71,35 @@ Solution dopri5_solution(const OscillatorParams& p, const EndStopParams& s,
   const auto stop = [&](double x, double v, int region) {
     return region == 0 ? 0.0 : ks * (x - region * travel) + bs * v;
   };
+  const auto force = [&](std::size_t n) { return f_a == nullptr ? 0.0 : (*f_a)[n]; };
+  // F_L = f_a - (m a_u + k x_r + F_stop), with the force of the interval in hand.
+  double f_now = force(0);
   const auto limit_at = [&](double a_u_now) {
-    return -(m * a_u_now + k * y[0] + stop(y[0], 0, c));
+    return f_now - (m * a_u_now + k * y[0] + stop(y[0], 0, c));
   };
   double d = sticking && std::fabs(limit_at(a_u[0])) <= fs ? 0.0 : 1.0;
   if (d != 0.0 && limit_at(a_u[0]) < 0.0) d = -1.0;
   const auto record = [&](std::size_t n) {
     out.x[n] = y[0];
     out.stuck[n] = d == 0.0 ? 1 : 0;
-    out.a_x[n] = d == 0.0 ? a_u[n] : -(k * y[0] + b * y[1] + stop(y[0], y[1], c) + fk * d) / m;
+    out.a_x[n] =
+        d == 0.0 ? a_u[n] : (force(n) - (k * y[0] + b * y[1] + stop(y[0], y[1], c) + fk * d)) / m;
   };
   record(0);
   double h = dt / 8.0;
   for (std::size_t n = 1; n < count; ++n) {
     const double a0 = a_u[n - 1], a1 = a_u[n];
+    f_now = force(n);
     const auto input = [&](double t) { return a0 + (a1 - a0) * (t / dt); };
     double t = 0.0;
     for (int guard = 0; t < dt && guard < 1000; ++guard) {
       if (d == 0.0) {
         const auto limit = [&](double at) { return limit_at(input(at)); };
+        if (std::fabs(limit(t)) > fs) {  // the force changed at the sample: F_L jumped
+          d = limit(t) > 0.0 ? 1.0 : -1.0;
+          y[1] = 0.0;
+          continue;
+        }
         if (std::fabs(limit(dt)) <= fs) {
           out.stuck_time_s += dt - t;
           break;
@@ -109,7 +120,8 @@ Solution dopri5_solution(const OscillatorParams& p, const EndStopParams& s,
       const double dir = d;
       const auto system = [&, region, dir](const State& z, State& dz, double at) {
         dz[0] = z[1];
-        dz[1] = -(k * z[0] + b * z[1] + stop(z[0], z[1], region) + fk * dir) / m - input(at);
+        dz[1] =
+            (f_now - (k * z[0] + b * z[1] + stop(z[0], z[1], region) + fk * dir)) / m - input(at);
       };
       // The mode ends where the region changes or (sticking) v_r d reaches 0.
       const auto ends = [&](const State& z) {
@@ -270,6 +282,37 @@ TEST(ReferenceEndStops, StickSlipSeatInContactMatchesDormandPrince) {
     CHECK(r.events > 10);
     check(r, dopri5_solution(p, s, a_u),
           damping > 0 ? "stick-slip, damped" : "stick-slip, undamped");
+  }
+}
+
+// With an actuator force held over each interval (steps every 37 samples and two sines, up to
+// 60 N: F_L jumps beyond F_fs at some samples), both seats, damped and undamped.
+TEST(ReferenceEndStops, ActuatedSeatInContactMatchesDormandPrince) {
+  const std::vector<double> a_u = wideband(2.0, 4.0, 19);
+  std::vector<double> f_a(a_u.size());
+  test::SplitMix64 random(7);
+  double level = 0.0;
+  for (std::size_t n = 0; n < f_a.size(); ++n) {
+    if (n % 37 == 0) level = random.uniform(-40.0, 40.0);
+    f_a[n] = level + 20.0 * std::sin(2.0 * test::kPi * 1.7 * static_cast<double>(n) * 1e-3);
+  }
+  for (const FrictionModel model : {FrictionModel::stick_slip, FrictionModel::linear}) {
+    for (const double damping : {504.0, 0.0}) {
+      const bool sticking = model == FrictionModel::stick_slip;
+      const OscillatorParams p = seat(model, damping, sticking ? 25.0 : 0.0, sticking ? 30.0 : 0.0);
+      // The stops at the RMS stroke of the actuated seat without them.
+      double sum = 0.0;
+      for (const double x : solve_reference_actuated(p, a_u, f_a).x_r_m) sum += x * x;
+      const double stroke = std::sqrt(sum / static_cast<double>(a_u.size()));
+      const EndStopParams s = stops(stroke, damping > 0 ? 2.0e3 : 0.0);
+      const ReferenceTrace r = solve_reference_actuated(p, s, a_u, f_a);
+      if (sticking) CHECK(r.events > 10);
+      check(r, dopri5_solution(p, s, a_u, &f_a),
+            sticking
+                ? (damping > 0 ? "actuated stick-slip, damped" : "actuated stick-slip, undamped")
+                : (damping > 0 ? "actuated frictionless, damped"
+                               : "actuated frictionless, undamped"));
+    }
   }
 }
 

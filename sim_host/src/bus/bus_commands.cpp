@@ -329,6 +329,7 @@ std::string ecu_json(const EcuRequest& request, const EcuResult& result, const E
   json["T_ax"] = result.summary.transmissibility;
   json["p_stick"] = result.summary.stick_probability;
   json["K"] = result.summary.den_hartog_k;
+  if (result.summary.end_stops) json["end_stop_contacts"] = result.summary.end_stop_contacts;
   json["faults"] = nlohmann::ordered_json::parse(fault_counters_json(result.faults));
   json["receive_drops"] = result.transport.receive_drops;
   json["malformed_reads"] = result.transport.malformed_reads;

@@ -79,13 +79,15 @@ class SeatEstimatorFor final : public SeatEstimatorRun {
   StateEstimator<T> estimator_;
 };
 
-template <typename T, typename Law>
+// kEndStops: the seat with end stops (setup.stops), as simulate runs it.
+template <typename T, typename Law, bool kEndStops = false>
 class SeatModelFor final : public SeatModel {
  public:
   SeatModelFor(const SimulationSetup& setup)
       : x0_(static_cast<T>(setup.x0_m)), v0_(static_cast<T>(setup.v0_m_per_s)) {
     ObserverParams params;
     params.model = setup.params;
+    params.stops = setup.stops;
     // A 10 s window (or the whole stream if its blocks would be under one sample).
     params.window_s = std::fmax(10.0, 10.0 * setup.params.dt_s);
     params.exponential_time_s = std::fmax(10.0, setup.params.dt_s);
@@ -138,7 +140,8 @@ class SeatModelFor final : public SeatModel {
             static_cast<double>(out.a_x_m_per_s2), static_cast<double>(out.friction_n), out.stuck};
   }
 
-  Observer<T, Law> observer_;  // the model, its windows, regime and ride comfort
+  // The model, its windows, regime and ride comfort.
+  Observer<T, Law, 10, true, kEndStops> observer_;
   RunningStatistics<T> statistics_;
   std::uint64_t events_ = 0;
   T x0_, v0_;
@@ -215,6 +218,11 @@ std::unique_ptr<SeatModel> make_fixed_model(const SimulationSetup& setup) {
 
 template <typename T>
 std::unique_ptr<SeatModel> make_model(const SimulationSetup& setup) {
+  if (setup.effects & kEndStops) {  // the scene's model (models/scene.hpp): none or stick-slip
+    if (setup.params.model == FrictionModel::linear)
+      return std::make_unique<SeatModelFor<T, NoFriction, true>>(setup);
+    return std::make_unique<SeatModelFor<T, CoulombStickSlip, true>>(setup);
+  }
   // The same law for the same parameters as with_oscillator() (dispatch.hpp) chooses.
   return with_oscillator<T>(setup.params, [&](auto& oscillator) -> std::unique_ptr<SeatModel> {
     using Osc = std::decay_t<decltype(oscillator)>;
@@ -282,6 +290,8 @@ EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config
   if (config_.setup.reference) throw UsageError("the ECU node runs the core's integrators only");
   const std::string refusal = ecu_node_scalar_refusal(config_.scalar);
   if (!refusal.empty()) throw UsageError(refusal);
+  if ((config_.setup.effects & kEndStops) && config_.scalar == ScalarType::fixed)
+    throw UsageError("--scalar fixed: end stops run in double or float");
   model_ = config_.scalar == ScalarType::fixed     ? make_fixed_model(config_.setup)
            : config_.scalar == ScalarType::float32 ? make_model<float>(config_.setup)
                                                    : make_model<double>(config_.setup);
@@ -477,6 +487,7 @@ can::Frame output_frame(const can::MessageSpec& message, std::uint16_t sample_co
 SimulationSummary EcuNode::summary() const {
   SimulationSummary summary;
   summary.dt_s = config_.setup.params.dt_s;
+  summary.end_stops = (config_.setup.effects & kEndStops) != 0;  // contacts 0 before a sample
   if (samples_ > 0) model_->summarise(summary);
   summary.den_hartog_k = den_hartog_factor(config_.setup.params.kinetic_friction_n,
                                            config_.setup.params.mass_kg, summary.rms_u);

@@ -78,11 +78,6 @@ void check_scene_for_bus_node(const Scene& scene, const std::string& path) {
                     "(docs/can/stickslip.dbc) publishes from 0x{:X}",
                     path, *scene.can.output_id, can::kSeatMotion.id));
   }
-  if (scene.effects & kEndStops) {
-    throw UsageError(path +
-                     ": the ECU node runs friction scenes without end stops (use simulate "
-                     "for a scene with end stops)");
-  }
 }
 
 }  // namespace

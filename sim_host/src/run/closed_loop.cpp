@@ -169,8 +169,8 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
   if (count < 2) throw HostError("closed-loop needs at least 2 samples");
   if (setup.plant.effects & kEndStops) {
     throw UsageError(
-        "--scene: the closed loop runs the seat model without end stops (the end-stop model has "
-        "no actuator input yet); drop the end stops from the scene");
+        "--scene: the closed loop runs the seat model without end stops (its plant, controller "
+        "and observer are wired for that model only); drop the end stops from the scene");
   }
   if (setup.plant.reference) {
     throw UsageError("--integrator reference: the closed loop runs the core's integrators");
@@ -375,8 +375,8 @@ void check_request(const ClosedLoopRequest& request) {
   const ClosedLoopSetup& s = request.setup;
   if (s.plant.effects & kEndStops) {
     throw UsageError(
-        "--scene: the closed loop runs the seat model without end stops (the end-stop model has "
-        "no actuator input yet); drop the end stops from the scene");
+        "--scene: the closed loop runs the seat model without end stops (its plant, controller "
+        "and observer are wired for that model only); drop the end stops from the scene");
   }
   if (request.sweep.count > 0 && !is_hook(s.controller)) {
     throw UsageError(

@@ -8,6 +8,9 @@
 //     v_r = 0 instant, so x_r is monotone there and a sign change of d (x_r - boundary) between the
 //     phase start and that instant brackets the one crossing (safeguarded Newton, slope v_r);
 //   - |F_L| = F_fs (break-away): F_L is linear in time while stuck, solved for directly.
+// An actuator force held over a sample interval shifts that interval's input by -f_a/m (the
+// closed forms are unchanged); F_L may then jump at the interval's start, where the seat leaves
+// at once if it exceeds F_fs.
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -26,9 +29,11 @@ namespace {
 
 class StopSolver {
  public:
-  StopSolver(const OscillatorParams& p, const EndStopParams& stops, const std::vector<double>& a_u)
+  StopSolver(const OscillatorParams& p, const EndStopParams& stops, const std::vector<double>& a_u,
+             const std::vector<double>* f_a_n)
       : p_(p),
         a_u_(a_u),
+        f_a_(f_a_n),
         mass_(wide(p.mass_kg)),
         stiffness_(wide(p.stiffness_n_per_m)),
         damping_(wide(p.damping_ns_per_m)),
@@ -52,7 +57,7 @@ class StopSolver {
     x_ = wide(x0);
     v_ = wide(v0);
     region_ = x_ > travel_ ? 1 : (x_ < -travel_ ? -1 : 0);
-    const Real limit = limit_force(wide(a_u_[0]));
+    const Real limit = limit_force(shifted(0));
     if (v_ != 0) {
       direction_ = sign_of(v_);
     } else if (friction_ && std::fabs(limit) <= static_) {
@@ -63,7 +68,9 @@ class StopSolver {
     record(trace, 0);
     for (std::size_t n = 1; n < count; ++n) {
       sample_ = n;
-      advance(wide(a_u_[n - 1]), wide(a_u_[n]));
+      // f_a[n] acts over the interval ending at sample n: both ends of its input shift.
+      const Real offset = force_over_mass(n);
+      advance(wide(a_u_[n - 1]) - offset, wide(a_u_[n]) - offset);
       record(trace, n);
     }
     trace.stuck_time_s = narrow(static_cast<Real>(whole_samples_stuck_) * dt_ + partial_stuck_s_);
@@ -81,6 +88,12 @@ class StopSolver {
   Real limit_force(Real a_u) const {
     return -(mass_ * a_u + stiffness_ * x_ + stop_spring(x_, region_));
   }
+  // f_a[n]/m, 0 without a force.
+  Real force_over_mass(std::size_t n) const {
+    return f_a_ == nullptr ? 0.0L : wide((*f_a_)[n]) / mass_;
+  }
+  // The input the seat feels at sample n: a_u - f_a/m.
+  Real shifted(std::size_t n) const { return wide(a_u_[n]) - force_over_mass(n); }
   Real input_at(Real a0, Real a1, Real tau) const {
     if (a0 == a1) return a0;
     const Real phi = tau / dt_;
@@ -91,7 +104,7 @@ class StopSolver {
     trace.x_r_m[n] = narrow(x_);
     trace.v_r_m_per_s[n] = narrow(v_);
     if (direction_ == 0) {
-      trace.friction_n[n] = narrow(limit_force(wide(a_u_[n])));
+      trace.friction_n[n] = narrow(limit_force(shifted(n)));
       trace.a_x_m_per_s2[n] = a_u_[n];
       trace.stuck[n] = 1;
       return;
@@ -99,7 +112,8 @@ class StopSolver {
     const Real force = kinetic_ * direction_;
     const Real stop = region_ == 0 ? 0.0L : stop_spring(x_, region_) + stop_damping_ * v_;
     trace.friction_n[n] = narrow(force);
-    trace.a_x_m_per_s2[n] = narrow(-(stiffness_ * x_ + damping_ * v_ + stop + force) / mass_);
+    trace.a_x_m_per_s2[n] =
+        narrow(-(stiffness_ * x_ + damping_ * v_ + stop + force) / mass_ + force_over_mass(n));
     trace.stuck[n] = 0;
   }
 
@@ -123,6 +137,15 @@ class StopSolver {
 
   // Stuck from tau (x_r fixed, F_L linear in time): to the end, or to the break-away instant.
   Real stuck_until(Real a0, Real a1, Real tau, int& in_sample) {
+    const Real limit_now = limit_force(input_at(a0, a1, tau));
+    if (std::fabs(limit_now) > static_) {
+      // Only at an interval's start, where a change of the actuator force made F_L jump.
+      direction_ = sign_of(limit_now);
+      v_ = 0;
+      ++events_;
+      count_event(in_sample);
+      return tau;
+    }
     const Real limit_end = limit_force(a1);
     if (std::fabs(limit_end) <= static_) {
       if (tau == 0) {
@@ -224,6 +247,7 @@ class StopSolver {
 
   const OscillatorParams& p_;
   const std::vector<double>& a_u_;
+  const std::vector<double>* f_a_;  // null: no force
   Real mass_, stiffness_, damping_, stop_stiffness_, stop_damping_, travel_, dt_;
   FreeModes free_, contact_;
   bool friction_ = false;
@@ -240,6 +264,13 @@ class StopSolver {
 
 ReferenceTrace solve_reference(const OscillatorParams& params, const EndStopParams& stops,
                                const std::vector<double>& a_u, double x0_m, double v0_m_per_s) {
+  return solve_reference_actuated(params, stops, a_u, {}, x0_m, v0_m_per_s);
+}
+
+ReferenceTrace solve_reference_actuated(const OscillatorParams& params, const EndStopParams& stops,
+                                        const std::vector<double>& a_u,
+                                        const std::vector<double>& f_a_n, double x0_m,
+                                        double v0_m_per_s) {
   OscillatorParams checked = params;
   checked.integrator = Integrator::exact;
   DiscreteModel free_model, contact_model;  // the validation only
@@ -256,12 +287,21 @@ ReferenceTrace solve_reference(const OscillatorParams& params, const EndStopPara
       throw HostError(fmt::format("reference solver: a_u[{}] = {} is not finite", n, a_u[n]));
     }
   }
+  if (!f_a_n.empty() && f_a_n.size() != a_u.size()) {
+    throw HostError(fmt::format("reference solver: {} actuator forces for {} input samples",
+                                f_a_n.size(), a_u.size()));
+  }
+  for (std::size_t n = 0; n < f_a_n.size(); ++n) {
+    if (!std::isfinite(f_a_n[n])) {
+      throw HostError(fmt::format("reference solver: f_a[{}] = {} is not finite", n, f_a_n[n]));
+    }
+  }
   if (!std::isfinite(x0_m) || !std::isfinite(v0_m_per_s)) {
     throw HostError(
         fmt::format("reference solver: the initial state x0 = {} m, v0 = {} m/s is not finite",
                     x0_m, v0_m_per_s));
   }
-  reference::StopSolver solver(checked, stops, a_u);
+  reference::StopSolver solver(checked, stops, a_u, f_a_n.empty() ? nullptr : &f_a_n);
   return solver.run(x0_m, v0_m_per_s);
 }
 

@@ -83,10 +83,18 @@ SimulationSummary simulate_reference(const SimulationSetup& setup, const std::ve
   seconds.reserve(static_cast<std::size_t>(repetitions));
   for (int repetition = 0; repetition < repetitions; ++repetition) {
     const auto start = std::chrono::steady_clock::now();
-    result = setup.actuator_force_n == nullptr
-                 ? solve_reference(setup.params, a_u, setup.x0_m, setup.v0_m_per_s)
-                 : solve_reference_actuated(setup.params, a_u, *setup.actuator_force_n, setup.x0_m,
-                                            setup.v0_m_per_s);
+    const std::vector<double> no_force;
+    const std::vector<double>& force =
+        setup.actuator_force_n == nullptr ? no_force : *setup.actuator_force_n;
+    if (setup.effects & kEndStops) {
+      result = solve_reference_actuated(setup.params, setup.stops, a_u, force, setup.x0_m,
+                                        setup.v0_m_per_s);
+    } else {
+      result =
+          setup.actuator_force_n == nullptr
+              ? solve_reference(setup.params, a_u, setup.x0_m, setup.v0_m_per_s)
+              : solve_reference_actuated(setup.params, a_u, force, setup.x0_m, setup.v0_m_per_s);
+    }
     const auto stop = std::chrono::steady_clock::now();
     seconds.push_back(std::chrono::duration<double>(stop - start).count());
   }
@@ -110,6 +118,10 @@ SimulationSummary simulate_reference(const SimulationSetup& setup, const std::ve
       seconds[static_cast<std::size_t>(repetitions / 2)] * 1e9 / static_cast<double>(count - 1);
   summary.repetitions = repetitions;
   summary.events = result.events;
+  if (setup.effects & kEndStops) {
+    summary.end_stops = true;
+    summary.end_stop_contacts = result.contacts;
+  }
   trace.x_r_m = std::move(result.x_r_m);
   trace.v_r_m_per_s = std::move(result.v_r_m_per_s);
   trace.a_x_m_per_s2 = std::move(result.a_x_m_per_s2);
@@ -211,7 +223,7 @@ SimulationSummary run_fixed_point(const SimulationSetup& setup, const std::vecto
 template <typename Law>
 using Fixed32Seat = ScaledOscillator<Fixed32, Law>;
 
-// The models whose step takes an actuator force (the oscillator; not the end-stop model).
+// The models whose step takes an actuator force (the oscillator, the end-stop model).
 template <typename Model, typename T, typename = void>
 struct TakesActuatorForce : std::false_type {};
 template <typename Model, typename T>
@@ -327,7 +339,7 @@ SimulationSummary simulate_signal(const SimulationSetup& setup, const std::vecto
           seconds.push_back(std::chrono::duration<double>(stop - start).count());
         }
       } else {
-        throw UsageError("f_a: an actuator force runs with the seat model without end stops");
+        throw UsageError("f_a: this seat model takes no actuator force");
       }
     }
     const bool passive = setup.actuator_force_n == nullptr;

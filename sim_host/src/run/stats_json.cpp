@@ -38,6 +38,7 @@ std::string format_stats_json(const SimulationSummary& s, const StatsContext& co
   json["rejected_inputs"] = s.rejected_inputs;
   json["event_budget_exhausted"] = s.event_budget_exhausted;
   json["state_resets"] = s.state_resets;
+  if (s.end_stops) json["end_stop_contacts"] = s.end_stop_contacts;
   if (context.scalar == ScalarType::fixed || context.scalar == ScalarType::fixed32) {
     // Fixed point: whether any value saturated (clipped, never wrapped), and in how many steps.
     json["saturation"] = s.saturated_steps != 0;

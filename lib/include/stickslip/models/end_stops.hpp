@@ -1,6 +1,7 @@
 // The seat with end stops: the stroke is free within +-travel; beyond it a stiff, damped stop acts
 // (Kelvin-Voigt: F_stop = k_s (x_r - travel sgn x_r) + b_s v_r while |x_r| > travel). Friction:
-// none, or Coulomb stick-slip (F_fs >= F_fk). Exact discretisation only.
+// none, or Coulomb stick-slip (F_fs >= F_fk). Exact discretisation only. An actuator force f_a
+// held over a step (step(a_u, f_a), as Oscillator's) is a shift of that step's input by -f_a/m.
 //
 // Between events the motion is linear in each mode (free or in contact, stuck or slipping one
 // way), so it is advanced by that mode's precomputed exact affine maps (first-order-hold input),
@@ -65,6 +66,9 @@ class EndStopOscillator {
   static constexpr int kBudget = kMaxEventsPerStep;
 
  public:
+  using Scalar = T;
+  using FrictionLaw = Law;
+
   ConfigResult configure(const OscillatorParams& seat, const EndStopParams& stops) noexcept {
     DiscreteModel free_model, contact_model;
     ConfigResult result = check_end_stops(seat, stops, free_model, contact_model);
@@ -110,7 +114,29 @@ class EndStopOscillator {
     return result;
   }
 
-  void reset(T x0_m, T v0_m_per_s, T a_u0) noexcept {
+  void reset(T x0_m, T v0_m_per_s, T a_u0) noexcept { reset_shifted(x0_m, v0_m_per_s, a_u0, a_u0); }
+  // With an actuator force f_a0 acting at the start (in F_L(0)); see current_with_force().
+  void reset(T x0_m, T v0_m_per_s, T a_u0, T f_a0_n) noexcept {
+    reset_shifted(x0_m, v0_m_per_s, a_u0, a_u0 - inv_mass_ * f_a0_n);
+  }
+
+  // Advances one sample: from the previous input a_u[n-1] to a_u_next = a_u[n].
+  StepOutput<T> step(T a_u_next) noexcept { return step_unchecked<false>(a_u_next, T(0)); }
+  // With the actuator force f_a_n (N, on the seat, upward positive) held over the step: the
+  // step's input becomes a_u - f_a/m (every mode's map unchanged, exact stays exact), F_L = f_a -
+  // (m a_u + k x_r + F_stop), and the outputs are those of a_u with f_a (actuated_step_output).
+  // A non-finite force counts as rejected and acts as 0.
+  StepOutput<T> step(T a_u_next, T f_a_n) noexcept {
+    if (!S::is_finite(f_a_n)) {
+      f_a_n = T(0);
+      ++counters_.rejected_inputs;
+    }
+    return step_unchecked<true>(a_u_next, inv_mass_ * f_a_n);
+  }
+
+ private:
+  // a_u_shifted = a_u0 - f_a0/m decides the initial mode; the next step starts from a_u0.
+  void reset_shifted(T x0_m, T v0_m_per_s, T a_u0, T a_u_shifted) noexcept {
     x_ = x0_m;
     v_ = v0_m_per_s;
     a_prev_ = a_u0;
@@ -119,34 +145,43 @@ class EndStopOscillator {
     if constexpr (kSticking) {
       if (v_ != T(0)) {
         direction_ = v_ > T(0) ? T(1) : T(-1);
-      } else if (S::abs(limit_force(x_, a_u0)) > static_n_) {
-        direction_ = limit_force(x_, a_u0) > T(0) ? T(-1) : T(1);
+      } else if (S::abs(limit_force(x_, a_u_shifted)) > static_n_) {
+        direction_ = limit_force(x_, a_u_shifted) > T(0) ? T(-1) : T(1);
       }
     } else {
       direction_ = T(1);  // no friction: "slipping" with zero force, never stuck
     }
     contacts_ = 0;
     counters_ = SafetyCounters{};
-    acceleration_ = stuck() ? T(0) : seat_acceleration(x_, v_) - a_u0;
+    acceleration_ = stuck() ? T(0) : seat_acceleration(x_, v_) - a_u_shifted;
   }
 
-  StepOutput<T> step(T a_u_next) noexcept {
+  // kActuated: the input is a_u - accel_offset (= f_a/m); without it no offset is formed at all
+  // and the step is the passive one, instruction for instruction.
+  template <bool kActuated>
+  StepOutput<T> step_unchecked(T a_u_next, T accel_offset) noexcept {
     if (!S::is_finite(a_u_next)) {  // replaced by the previous sample, counted
       a_u_next = a_prev_;
       ++counters_.rejected_inputs;
     }
-    const Input in{a_prev_, a_u_next};
+    Input in{a_prev_, a_u_next};
+    if constexpr (kActuated) in = Input{a_prev_ - accel_offset, a_u_next - accel_offset};
     StopContacts<T>& out = contacts_last_;
     out = StopContacts<T>{};
     T stuck_fraction = T(0);
     int events = 0;
 
     if (kSticking && direction_ == T(0)) {
-      // Stuck: F_L is linear in time over the step; it held at the start.
-      if (S::abs(limit_force(x_, in.a1)) <= static_n_) {
+      // Stuck: F_L is linear in time over the step; it held at the start (unless a change of
+      // the actuator force made it jump there).
+      bool holds = S::abs(limit_force(x_, in.a1)) <= static_n_;
+      if constexpr (kActuated) holds = holds && S::abs(limit_force(x_, in.a0)) <= static_n_;
+      if (holds) {
         a_prev_ = a_u_next;
         out.contact = static_cast<std::int8_t>(contact_);
-        return output(in.a1, T(1), 0);
+        StepOutput<T> result = output(in.a1, T(1), 0);
+        if constexpr (kActuated) actuated_step_output(result, a_u_next, accel_offset);
+        return result;
       }
     } else {
       // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
@@ -155,13 +190,17 @@ class EndStopOscillator {
       T x = x_, v = v_;
       apply_step_map(maps_[contact_ != 0 ? 1 : 0][0], x, v, -(in.a0 + offset), -(in.a1 + offset));
       const T a_x = seat_acceleration(x, v);
-      // v_r' = a_x - a_u: the relative acceleration at both ends, the start's kept from before.
-      if (!event_between(x_, v_, acceleration_, x, v, a_x - in.a1)) {
+      // v_r' = a_x - a_u: the relative acceleration at both ends, the start's kept from before
+      // (with a force, formed again: a change of f_a makes v_r' jump at the step's start).
+      T acc0 = acceleration_;
+      if constexpr (kActuated) acc0 = seat_acceleration(x_, v_) - in.a0;
+      if (!event_between(x_, v_, acc0, x, v, a_x - in.a1)) {
         x_ = x;
         v_ = v;
         acceleration_ = a_x - in.a1;
         a_prev_ = a_u_next;
         out.contact = static_cast<std::int8_t>(contact_);
+        if constexpr (kActuated) return slip_output(a_x + accel_offset);
         return slip_output(a_x);
       }
     }
@@ -169,14 +208,21 @@ class EndStopOscillator {
     guard_state();
     a_prev_ = a_u_next;
     out.contact = static_cast<std::int8_t>(contact_);
-    const StepOutput<T> result = output(in.a1, stuck_fraction, events);
+    StepOutput<T> result = output(in.a1, stuck_fraction, events);
     acceleration_ = result.stuck ? T(0) : result.a_x_m_per_s2 - in.a1;
+    if constexpr (kActuated) actuated_step_output(result, a_u_next, accel_offset);
     return result;
   }
 
+ public:
   T x_r() const noexcept { return x_; }
   T v_r() const noexcept { return v_; }
   int contact() const noexcept { return contact_; }
+  // The stop's force on the seat at the current state (0 in the free stroke), N.
+  T stop_force_n() const noexcept {
+    return contact_ == 0 ? T(0)
+                         : stop_stiffness_ * (x_ - travel_ * T(contact_)) + stop_damping_ * v_;
+  }
   const StopContacts<T>& last_step_contacts() const noexcept { return contacts_last_; }
   bool stuck() const noexcept { return kSticking && direction_ == T(0); }
   std::uint64_t contacts() const noexcept { return contacts_; }
@@ -185,6 +231,13 @@ class EndStopOscillator {
   std::uint64_t state_resets() const noexcept { return counters_.state_resets; }
   // The output at the current state with the last input (row 0 of a run, as Oscillator's).
   StepOutput<T> current() const noexcept { return output(a_prev_, stuck() ? T(1) : T(0), 0); }
+  // The same with the actuator force f_a acting on that state.
+  StepOutput<T> current_with_force(T f_a_n) const noexcept {
+    const T offset = inv_mass_ * f_a_n;
+    StepOutput<T> out = output(a_prev_ - offset, stuck() ? T(1) : T(0), 0);
+    actuated_step_output(out, a_prev_, offset);
+    return out;
+  }
   // Mechanical energy of the seat: kinetic, spring and stop (J).
   double energy_j() const noexcept {
     const double x = S::to_double(x_), v = S::to_double(v_);

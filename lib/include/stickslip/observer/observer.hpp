@@ -8,17 +8,23 @@
 // update() per sample: the model's step, a few multiply-adds, the comfort filters (kComfort), and
 // once per completed window block (not per sample) the window figures, K and the regime (one
 // square root and a few divisions). No heap; every capacity is a template parameter.
+//
+// kEndStops: the model is the seat with end stops (EndStopOscillator, models/end_stops.hpp;
+// ObserverParams::stops, laws NoFriction and CoulombStickSlip, double or float), whose step is
+// then the estimate, and the measured friction also takes off the stop's force.
 #pragma once
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "stickslip/core/params.hpp"
 #include "stickslip/core/scalar.hpp"
 #include "stickslip/core/status.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/ride_comfort.hpp"
+#include "stickslip/models/end_stops.hpp"
 #include "stickslip/models/oscillator.hpp"
 #include "stickslip/observer/regime_tracker.hpp"
 #include "stickslip/observer/window_statistics.hpp"
@@ -27,7 +33,8 @@ namespace stickslip {
 
 struct ObserverParams {
   OscillatorParams model;
-  double window_s = 10.0;             // block window length (split into the kWindowBlocks blocks)
+  EndStopParams stops;     // the stops, for an observer of the seat with end stops (kEndStops)
+  double window_s = 10.0;  // block window length (split into the kWindowBlocks blocks)
   double exponential_time_s = 10.0;   // tau of the exponential window
   double regime_hysteresis_k = 0.05;  // K margin beyond a regime boundary before the regime changes
   double mismatch_rms_m_per_s2 = 0.1;  // residual RMS (window) above which the model is flagged
@@ -40,7 +47,7 @@ struct ObserverEstimate {
   StepOutput<T> model{};    // the model's step (x_r, v_r, a_x, f_f, stuck, ...)
   bool measured = false;    // a measured seat acceleration came with this sample
   T residual_m_per_s2{};    // a_x,measured - a_x,model (0 when not measured)
-  T measured_friction_n{};  // F_f from the measurement: -m a_x,meas - k x_r - b v_r
+  T measured_friction_n{};  // F_f from the measurement: -m a_x,meas - k x_r - b v_r (- F_stop)
 };
 
 // Window figures, refreshed when a block completes (and on demand by summary()). The regime is
@@ -60,15 +67,21 @@ struct ObserverSummary {
   bool model_mismatch = false;
 };
 
-template <typename T, typename Law, std::size_t kWindowBlocks = 10, bool kComfort = true>
+template <typename T, typename Law, std::size_t kWindowBlocks = 10, bool kComfort = true,
+          bool kEndStops = false>
 class Observer {
   using S = ScalarTraits<T>;
 
  public:
-  using Model = Oscillator<T, Law>;
+  using Model = std::conditional_t<kEndStops, EndStopOscillator<T, Law>, Oscillator<T, Law>>;
 
   ConfigResult configure(const ObserverParams& params) noexcept {
-    ConfigResult result = model_.configure(params.model);
+    ConfigResult result;
+    if constexpr (kEndStops) {
+      result = model_.configure(params.model, params.stops);
+    } else {
+      result = model_.configure(params.model);
+    }
     if (!result.ok()) return result;
     const double dt = params.model.dt_s;
     const auto refuse = [&result](Status status, const char* name, double value, const char* why) {
@@ -165,6 +178,9 @@ class Observer {
     estimate_.measured_friction_n =
         measured ? -(mass_kg_ * a_x_measured + stiffness_ * out.x_r_m + damping_ * out.v_r_m_per_s)
                  : T(0);
+    if constexpr (kEndStops) {
+      if (measured) estimate_.measured_friction_n -= model_.stop_force_n();
+    }
     const bool stick_event = out.stuck && !was_stuck_;
     const bool slip_event = !out.stuck && was_stuck_;
     was_stuck_ = out.stuck;

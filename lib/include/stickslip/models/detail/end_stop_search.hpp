@@ -60,12 +60,18 @@ bool EndStopOscillator<T, Law>::break_away(const Input& in, Position& pos,
                                            T& stuck_fraction) noexcept {
   const T phi_now = phi(pos);
   const T f1 = limit_force(x_, in.a1);
+  const T f0 = limit_force(x_, in.at(phi_now));
   v_ = T(0);
+  if (S::abs(f0) > static_n_) {
+    // Beyond F_fs already at pos: only at a step's start, where a change of the actuator force
+    // makes F_L jump (elsewhere the seat stuck because F_L held there). It leaves at once.
+    direction_ = f0 > T(0) ? T(-1) : T(1);
+    return true;
+  }
   if (S::abs(f1) <= static_n_) {
     stuck_fraction += T(1) - phi_now;
     return false;
   }
-  const T f0 = limit_force(x_, in.at(phi_now));
   const T bound = f1 > T(0) ? static_n_ : -static_n_;
   T ratio = T(0);  // |f0| < F_fs < |f1|: the denominator is not zero
   if (S::abs(f0) < static_n_) {

@@ -79,4 +79,12 @@ ReferenceTrace solve_reference_actuated(const OscillatorParams& params,
                                         const std::vector<double>& f_a_n, double x0_m = 0.0,
                                         double v0_m_per_s = 0.0);
 
+// The same with end stops and the actuator force (as solve_reference with EndStopParams): F_L =
+// f_a - (m a_u + k x_r + F_stop); a jump of F_L beyond F_fs at an interval's start breaks away
+// there.
+ReferenceTrace solve_reference_actuated(const OscillatorParams& params, const EndStopParams& stops,
+                                        const std::vector<double>& a_u,
+                                        const std::vector<double>& f_a_n, double x0_m = 0.0,
+                                        double v0_m_per_s = 0.0);
+
 }  // namespace stickslip::host

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "stickslip/core/params.hpp"
@@ -63,6 +64,9 @@ struct SimulationSummary {
   std::uint64_t rejected_inputs = 0;         // non-finite input samples replaced
   std::uint64_t event_budget_exhausted = 0;  // steps that hit the event budget
   std::uint64_t state_resets = 0;            // non-finite state restarts
+  // The seat with end stops: contacts begun over the run.
+  bool end_stops = false;
+  std::uint64_t end_stop_contacts = 0;
   // ISO 2631-1 ride comfort of the run (Wk, vertical; floor = a_u, seat = a_x), computed from the
   // trace after the timed loop (add_ride_comfort()).
   bool comfort = false;
@@ -87,6 +91,11 @@ struct SimulationSummary {
 template <typename Statistics, typename Model>
 void summarise_run(SimulationSummary& summary, const Statistics& statistics, const Model& model,
                    std::uint64_t events) {
+  if constexpr (std::is_same_v<Model, EndStopOscillator<typename Model::Scalar,
+                                                        typename Model::FrictionLaw>>) {
+    summary.end_stops = true;
+    summary.end_stop_contacts = model.contacts();
+  }
   summary.samples = statistics.samples();
   summary.steps = statistics.steps();
   summary.rms_u = statistics.rms_u();

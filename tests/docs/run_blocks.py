@@ -531,21 +531,24 @@ def run_json_keys(args):
         failures += check_writer_keys(os.path.abspath(args.source), node,
                                       os.path.join("sim_host", "src", "bus", "control_nodes.cpp"),
                                       f"{node}_json")
-    failures += check_closed_loop_keys(os.path.abspath(args.source), run)
+    failures += check_closed_loop_keys(os.path.abspath(args.source), run, end_stops)
     for failure in failures:
         print(f"FAILED: {failure}")
     print(f"documented keys: {len(documented)}, printed keys: {len(seen)}")
     return 1 if failures else 0
 
 
-def check_closed_loop_keys(source, run):
-    """`closed-loop`'s JSON line (a single run and a gain sweep) against the table after
-    `<!-- docs-test: json-keys closed-loop -->`."""
+def check_closed_loop_keys(source, run, end_stops):
+    """`closed-loop`'s JSON line (a single run, one on the scene with end stops and a gain sweep)
+    against the table after `<!-- docs-test: json-keys closed-loop -->`."""
     documented = documented_keys(source, ("closed-loop",))
     base = ["closed-loop", "--input", "in.csv", "--model", "stick-slip", "--ffk", "45"]
     runs = {
         "closed-loop skyhook-semi": [*base, "--output", "loop.csv", "--controller",
                                      "skyhook-semi"],
+        "closed-loop --scene end stops": ["closed-loop", "--input", "in.csv", "--output",
+                                          "loop.csv", "--controller", "skyhook", "--scene",
+                                          end_stops],
         "closed-loop --sweep-gain": [*base, "--output", "sweep.csv", "--controller", "skyhook",
                                      "--sweep-gain", "0:2000:3", "--plot", "pareto.png"],
     }

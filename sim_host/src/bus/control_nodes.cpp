@@ -144,8 +144,8 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
         fmt::format("--connect-timeout: must be > 0 s, got {}", request.connect_timeout_s));
   if (request.setup.plant.effects & kEndStops) {
     throw UsageError(
-        "--scene: the plant runs the seat model without end stops (the end-stop model has no "
-        "actuator input yet); drop the end stops from the scene");
+        "--scene: the plant node runs the seat without end stops; drop the end stops from the "
+        "scene, or run it in process with closed-loop");
   }
   PlantNodeResult result;
   const SampledSignal signal =

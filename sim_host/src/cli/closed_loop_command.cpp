@@ -31,8 +31,9 @@ class ClosedLoopCommand : public Command {
                     "--sweep-gain: one row per gain)")
         ->required();
     command.add_option("--stats", request_.stats_path, "also write the JSON line here");
-    model_.add_to(command, request_.setup.plant,
-                  "scene file (TOML, docs/scenes/) without end stops; the flags below override it");
+    model_.add_to(
+        command, request_.setup.plant,
+        "scene file (TOML, docs/scenes/), end stops included; the flags below override it");
     ClosedLoopSetup& s = request_.setup;
     controller_options_.add_to(command, s);
     command.add_option("--a-x-resolution", s.a_x_resolution_m_per_s2,

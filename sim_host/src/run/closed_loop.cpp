@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 #include <system_error>
+#include <type_traits>
 
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/output_file.hpp"
@@ -19,6 +20,7 @@
 #include "stickslip/metrics/ride_comfort.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
+#include "stickslip/models/end_stops.hpp"
 #include "stickslip/models/scene.hpp"
 
 namespace stickslip::host {
@@ -167,11 +169,6 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
                                ClosedLoopTrace& trace) {
   const std::size_t count = a_u.size();
   if (count < 2) throw HostError("closed-loop needs at least 2 samples");
-  if (setup.plant.effects & kEndStops) {
-    throw UsageError(
-        "--scene: the closed loop runs the seat model without end stops (its plant, controller "
-        "and observer are wired for that model only); drop the end stops from the scene");
-  }
   if (setup.plant.reference) {
     throw UsageError("--integrator reference: the closed loop runs the core's integrators");
   }
@@ -204,8 +201,12 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
   // flush on the samples), so that a passive loop's p is simulate's bit for bit.
   RunningStatistics<double> steps;
   steps.reset();
-  with_oscillator<double>(setup.plant.params, [&](auto& seat) {
-    configured = seat.configure(setup.plant.params);
+  // The plant is exactly the scene's model, as simulate chooses it (with end stops: the end-stop
+  // model, whose step takes the actuator force too).
+  const SceneParams scene{setup.plant.effects, setup.plant.params, setup.plant.stops};
+  std::uint64_t contacts = 0;
+  with_scene_model<double>(scene, [&](auto& seat) {
+    configured = configure_for_scene(seat, scene);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
     // No force at the start: the passive reset, as simulate's.
     seat.reset(setup.plant.x0_m, setup.plant.v0_m_per_s, a_u[0]);
@@ -224,9 +225,13 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
       steps.add_sample(a_u[n], sample.plant.a_x_m_per_s2);
       steps.add_step(sample.plant.stuck_fraction);
     }
+    using Model = std::remove_reference_t<decltype(seat)>;
+    if constexpr (std::is_same_v<Model, EndStopOscillator<double, typename Model::FrictionLaw>>)
+      contacts = seat.contacts();
   });
   ControlFigures figures = measure_control(a_u, plant, trace.f_a_n, dt_s);
   figures.stick_probability = steps.stick_probability();
+  figures.end_stop_contacts = contacts;
   return figures;
 }
 
@@ -273,7 +278,7 @@ std::vector<double> sweep_gains(const GainSweep& sweep) {
 
 namespace {
 
-nlohmann::ordered_json figures_json(const ControlFigures& f, bool controlled) {
+nlohmann::ordered_json figures_json(const ControlFigures& f, bool controlled, bool end_stops) {
   nlohmann::ordered_json json;
   json["T_ax"] = f.transmissibility;
   json["p_stick"] = f.stick_probability;
@@ -282,6 +287,7 @@ nlohmann::ordered_json figures_json(const ControlFigures& f, bool controlled) {
   json["seat"] = f.seat_ratio;
   json["vdv"] = f.vdv;
   json["travel"] = f.travel_m;
+  if (end_stops) json["end_stop_contacts"] = f.end_stop_contacts;
   if (controlled) {
     json["force_rms"] = f.force_rms_n;
     json["force_peak"] = f.force_peak_n;
@@ -293,7 +299,7 @@ nlohmann::ordered_json figures_json(const ControlFigures& f, bool controlled) {
 }  // namespace
 
 std::string control_figures_json(const ControlFigures& figures, bool controlled) {
-  return figures_json(figures, controlled)
+  return figures_json(figures, controlled, false)
       .dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
@@ -373,11 +379,6 @@ void write_pareto_plot(const std::vector<double>& gains, const std::vector<Contr
 
 void check_request(const ClosedLoopRequest& request) {
   const ClosedLoopSetup& s = request.setup;
-  if (s.plant.effects & kEndStops) {
-    throw UsageError(
-        "--scene: the closed loop runs the seat model without end stops (its plant, controller "
-        "and observer are wired for that model only); drop the end stops from the scene");
-  }
   if (request.sweep.count > 0 && !is_hook(s.controller)) {
     throw UsageError(
         fmt::format("--sweep-gain: sweeps the hook gain of skyhook, groundhook, skyhook-semi or "
@@ -436,6 +437,8 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
   }
   ControlFigures passive = measure_control(a_u, passive_trace, {}, dt_s);
   passive.stick_probability = passive_summary.stick_probability;
+  passive.end_stop_contacts = passive_summary.end_stop_contacts;
+  const bool end_stops = (setup.plant.effects & kEndStops) != 0;
 
   nlohmann::ordered_json json;
   json["controller"] = controller_name(setup.controller);
@@ -463,7 +466,7 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
   json["a_u_resolution"] = setup.a_u_resolution_m_per_s2;
   json["force_resolution"] = setup.force_resolution_n;
   json["seed"] = setup.seed;
-  json["passive"] = figures_json(passive, false);
+  json["passive"] = figures_json(passive, false, end_stops);
 
   ClosedLoopResult result;
   result.recording = report;
@@ -477,7 +480,7 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
   if (request.sweep.count == 0) {
     ClosedLoopTrace trace;
     const ControlFigures controlled = run(trace);
-    json["controlled"] = figures_json(controlled, true);
+    json["controlled"] = figures_json(controlled, true, end_stops);
     json["seat_weighted_rms_ratio"] = controlled.seat_weighted_rms / passive.seat_weighted_rms;
     write_loop_trace(writer, signal.t_s, signal.a_u_m_per_s2, trace);
   } else {

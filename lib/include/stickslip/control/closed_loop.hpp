@@ -2,7 +2,8 @@
 // actuator, with the one-frame delay of an ECU's output stage. The force computed from the
 // sensors of sample n is held over the next step (t_n to t_{n+1}), so step n+1 of the plant sees
 // it: plant.step(a_u[n+1], f_a) with the f_a of sample n. Nothing here knows where the plant runs:
-// the same step() drives an Oscillator in process, and a later CAN split calls the same code with
+// the same step() drives an Oscillator or an EndStopOscillator (any plant with step(a_u, f_a)
+// returning a StepOutput) in process, and a later CAN split calls the same code with
 // the plant on the other side of the bus.
 //
 // Per sample:

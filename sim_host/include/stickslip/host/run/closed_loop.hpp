@@ -81,11 +81,13 @@ struct ControlFigures {
   // over the run's duration: exact for the force held over each step. Positive: the actuator
   // puts energy in; negative: it takes energy out (a damper).
   double mean_power_w = 0.0;
+  // Contacts with the end stops begun over the run (a scene with end stops; 0 without).
+  std::uint64_t end_stop_contacts = 0;
 };
 
-// Runs the loop over a_u (one continuous part, >= 2 samples) and fills `trace`. Throws
-// ConfigurationError when the core refuses the parameters, UsageError for end stops (the
-// end-stop model has no actuator input).
+// Runs the loop over a_u (one continuous part, >= 2 samples) and fills `trace`; the plant is
+// the scene's model (with end stops: EndStopOscillator). Throws ConfigurationError when the core
+// refuses the parameters.
 ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<double>& a_u,
                                ClosedLoopTrace& trace);
 

@@ -15,7 +15,7 @@
 
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/output_file.hpp"
-#include "stickslip/host/run/fit_report.hpp"
+#include "stickslip/host/run/gnuplot_png.hpp"
 #include "stickslip/host/signals/random.hpp"
 #include "stickslip/metrics/ride_comfort.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
@@ -353,28 +353,7 @@ void write_pareto_plot(const std::vector<double>& gains, const std::vector<Contr
       "'' using 1:2:(sprintf('%.0f', \\$3)) with labels offset 1,1 notitle, "
       "{} with lines dt 2 title 'passive'",
       image_path, controller, data_path, controller, passive.seat_weighted_rms);
-  const std::string command = "gnuplot -e \"" + script + "\" 2>&1";
-  std::FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  int status = -1;
-  if (pipe != nullptr) {
-    char buffer[256];
-    while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-    status = pclose(pipe);
-  }
-  std::error_code ignored;
-  std::filesystem::remove(data_path, ignored);
-  if (status != 0) {
-    std::filesystem::remove(image_path, ignored);
-    throw HostError(fmt::format("{}: gnuplot could not draw the Pareto plot: {}", png_path,
-                                output.substr(0, output.find('\n'))));
-  }
-  std::error_code error;
-  std::filesystem::rename(image_path, png_path, error);
-  if (error) {
-    std::filesystem::remove(image_path, ignored);
-    throw HostError(fmt::format("{}: {}", png_path, error.message()));
-  }
+  draw_png(script, data_path, image_path, png_path, "the Pareto plot");
 }
 
 void check_request(const ClosedLoopRequest& request) {

@@ -14,6 +14,7 @@
 
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/output_file.hpp"
+#include "stickslip/host/run/gnuplot_png.hpp"
 
 namespace stickslip::host {
 namespace {
@@ -110,10 +111,6 @@ std::string fit_json(const FitResult& result) {
   return json.dump();
 }
 
-bool gnuplot_available() {
-  return std::system("command -v gnuplot >/dev/null 2>&1") == 0;
-}
-
 void write_residual_plot(const RigRecording& rig, const FitResult& result,
                          const std::string& png_path) {
   const std::string stem = fmt::format("{}.{}.tmp", png_path, static_cast<long>(getpid()));
@@ -132,28 +129,7 @@ void write_residual_plot(const RigRecording& rig, const FitResult& result,
       "set title 'stickslip fit: {} model, rms residual {:.3g} m/s^2'; "
       "plot '{}' using 1:2 with lines lw 1 notitle",
       image_path, model_name(result.params.model), result.rms_residual_m_per_s2, data_path);
-  const std::string command = "gnuplot -e \"" + script + "\" 2>&1";
-  std::FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  int status = -1;
-  if (pipe != nullptr) {
-    char buffer[256];
-    while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
-    status = pclose(pipe);
-  }
-  std::error_code ignored;
-  std::filesystem::remove(data_path, ignored);
-  if (status != 0) {
-    std::filesystem::remove(image_path, ignored);
-    throw HostError(fmt::format("{}: gnuplot could not draw the residual plot: {}", png_path,
-                                output.substr(0, output.find('\n'))));
-  }
-  std::error_code error;
-  std::filesystem::rename(image_path, png_path, error);
-  if (error) {
-    std::filesystem::remove(image_path, ignored);
-    throw HostError(fmt::format("{}: {}", png_path, error.message()));
-  }
+  draw_png(script, data_path, image_path, png_path, "the residual plot");
 }
 
 }  // namespace stickslip::host

@@ -6,6 +6,7 @@
 
 #include "stickslip/host/io/rig_recording.hpp"
 #include "stickslip/host/run/fit.hpp"
+#include "stickslip/host/run/gnuplot_png.hpp"
 
 namespace stickslip::host {
 
@@ -17,9 +18,6 @@ std::string fit_report_text(const FitResult& result);
 // rms_residual, T_ax_measured, T_ax_model, p_measured, p_model, condition_number, iterations,
 // seconds, converged.
 std::string fit_json(const FitResult& result);
-
-// Whether a `gnuplot` executable is on PATH.
-bool gnuplot_available();
 
 // Residual a_x (measured - model) against t, as a PNG written by gnuplot under a temporary name
 // and renamed into place; throws HostError (nothing left behind) if gnuplot fails.

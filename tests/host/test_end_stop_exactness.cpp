@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../core/oracles.hpp"
+#include "end_stop_scenarios.hpp"
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/host/run/reference_solver.hpp"
 #include "stickslip/host/signals/signal_generator.hpp"
@@ -22,32 +23,10 @@ using namespace stickslip::host;
 
 namespace {
 
-constexpr double kDt = 1e-3;
-
-std::vector<double> wideband(double rms, double duration_s, std::uint64_t seed) {
-  GeneratorSpec spec;
-  spec.kind = SignalKind::wideband;
-  spec.rms_m_per_s2 = rms;
-  spec.duration_s = duration_s;
-  spec.dt_s = kDt;
-  spec.seed = seed;
-  return generate_signal(spec);
-}
-
-OscillatorParams seat(FrictionModel model, double damping, double kinetic_n, double static_n) {
-  OscillatorParams p = test::reference_params(model, Integrator::exact, kDt, damping);
-  p.kinetic_friction_n = kinetic_n;
-  p.static_friction_n = static_n;
-  return p;
-}
-
-EndStopParams stops(double travel_m, double damping) {
-  EndStopParams s;
-  s.travel_m = travel_m;
-  s.stiffness_n_per_m = 2.0e5;
-  s.damping_ns_per_m = damping;
-  return s;
-}
+using test::end_stop::kDt;
+using test::end_stop::seat;
+using test::end_stop::stops;
+using test::end_stop::wideband;
 
 // The seat's history on a_u: x_r, a_x, stuck fraction per sample.
 struct History {

@@ -148,7 +148,7 @@ loop_duration="${VCAN_LOOP_DURATION_S:-3}"
 loop_samples=$(awk "BEGIN { printf \"%d\", $loop_duration / 0.001 + 1.5 }")
 loop_seat="--model stick-slip --ffk 40 --ffs 55"
 loop_sensors="--a-x-noise 0.02 --x-r-noise 1e-4"
-loop_law="--controller skyhook --gain 1500 --actuator-lag 0.005"
+loop_law="--controller skyhook-semi --gain 1500 --actuator-lag 0.005"
 start_controller() {  # start_controller NAME: the controller in the background, listening
   before=$(receivers)
   timeout 300 stickslip controller --bus "$iface" $loop_seat $loop_sensors $loop_law --idle-exit 1 \

@@ -298,6 +298,21 @@ TEST(EcuEstimator, FixedPointNodeRefusesTheEstimator) {
   }
 }
 
+// The estimator models no stops: on an end-stop scene it is refused, not run wrong in contact.
+TEST(EcuEstimator, EndStopSceneRefusesTheEstimator) {
+  host::EcuRequest request = node_request();
+  request.setup.effects |= kEndStops;
+  request.setup.stops.travel_m = 0.05;
+  request.setup.stops.stiffness_n_per_m = 2.0e5;
+  try {
+    host::run_ecu(request);
+    FAIL("accepted");
+  } catch (const std::exception& error) {
+    CHECK(std::string(error.what())
+              .rfind("--estimator: the state estimator models the seat without end stops", 0) == 0);
+  }
+}
+
 TEST_GROUP(SensorReceiver){};
 
 TEST(SensorReceiver, KeepsTheGoodFrameForItsSampleAndRefusesBadOnes) {

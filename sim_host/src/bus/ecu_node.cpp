@@ -300,6 +300,10 @@ EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config
       throw UsageError(
           "--estimator: runs in double or float only (its covariance spans 1e-16 .. 1e2, which no "
           "Q format holds); use --scalar double or float");
+    if (config_.setup.effects & kEndStops)
+      throw UsageError(
+          "--estimator: the state estimator models the seat without end stops, so its estimates "
+          "would be wrong in contact; drop the end stops from the scene or the --estimator");
     estimator_params_ = node_estimator_params(config_.setup.params);
     if (config_.scalar == ScalarType::float32) {
       estimator_ = std::make_unique<SeatEstimatorFor<float>>(estimator_params_);

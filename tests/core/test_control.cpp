@@ -3,6 +3,7 @@
 // constant acceleration, the semi-active law's dissipation (f v_r <= 0 and b_min |v_r| <= |f| <=
 // b_max |v_r| for every sample), the active hooks' forces, the friction feed-forward and the user
 // hook.
+#include <algorithm>
 #include <cmath>
 
 #include "CppUTest/TestHarness.h"
@@ -114,6 +115,49 @@ TEST(Control, SemiActiveForceIsAlwaysDissipativeAndWithinTheDamperRange) {
     }
     CHECK(exact > 1000 && clipped > 1000);  // both branches ran
   }
+}
+
+// The hooks in float and Q23.40 give the double law's force on the same (rounded) velocities, to
+// the one rounding of the product that picks the force: the clipped law is continuous, so a
+// branch taken differently at a boundary moves the force by no more than that rounding either.
+// And each format keeps the device dissipative exactly (f v_r <= 0 in the format's arithmetic).
+template <typename T>
+void check_hooks_in(double relative, double absolute) {
+  using S = ScalarTraits<T>;
+  for (HookReference reference : {HookReference::sky, HookReference::ground}) {
+    for (HookDevice device : {HookDevice::active, HookDevice::semi_active}) {
+      HookParams p;
+      p.reference = reference;
+      p.device = device;
+      p.gain_ns_per_m = 2000.0;
+      p.min_damping_ns_per_m = 100.0;
+      p.max_damping_ns_per_m = 2500.0;
+      HookController<T> hook;
+      HookController<double> exact;
+      CHECK(hook.configure(p).ok());
+      CHECK(exact.configure(p).ok());
+      test::SplitMix64 random(29);
+      for (int n = 0; n < 20000; ++n) {
+        const T v_seat = S::from_double(random.uniform(-0.5, 0.5));
+        const T v_floor = S::from_double(random.uniform(-0.5, 0.5));
+        const SensorSample<T> s{T(0), T(0), T(0), v_seat - v_floor, v_seat, v_floor, T(0)};
+        const SensorSample<double> d{
+            0.0, 0.0, 0.0, S::to_double(s.v_r_m_per_s), S::to_double(v_seat), S::to_double(v_floor),
+            0.0};
+        const T f = hook.step(s);
+        const double scale =
+            std::max({2000.0 * std::fabs(d.v_seat_m_per_s), 2000.0 * std::fabs(d.v_floor_m_per_s),
+                      2500.0 * std::fabs(d.v_r_m_per_s)});
+        DOUBLES_EQUAL(exact.step(d), S::to_double(f), relative * scale + absolute);
+        if (device == HookDevice::semi_active) CHECK(f * s.v_r_m_per_s <= T(0));
+      }
+    }
+  }
+}
+
+TEST(Control, HooksInFloatAndFixedPointGiveTheDoubleLawsForce) {
+  check_hooks_in<float>(0x1p-24, 0.0);  // one rounding to float's 24 bits
+  check_hooks_in<Fixed>(0.0, 0x1p-40);  // one rounding to Q23.40's last bit
 }
 
 TEST(Control, ActiveHooksGiveTheirDamperForce) {

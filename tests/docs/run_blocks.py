@@ -504,28 +504,7 @@ def run_json_keys(args):
         "replay --scene end stops": ["replay", "--input", "in.csv", "--output", "out.csv",
                                      "--scene", end_stops],
     }
-    seen = {}
-    failures = []
-    for name, command in runs.items():
-        data = last_json_line(run(*command))
-        if data is None:
-            failures.append(f"{name}: no JSON line on stdout")
-            continue
-        keys = flatten(data)
-        for key in keys:
-            seen.setdefault(key, []).append(name)
-        absent = sorted(k for k, when in documented.items() if when == "always" and k not in keys)
-        if absent:
-            failures.append(f"{name}: keys documented as 'always' are missing: {', '.join(absent)}")
-        print(f"{name}: {len(keys)} keys")
-    extra = sorted(set(seen) - set(documented))
-    missing = sorted(set(documented) - set(seen))
-    if extra:
-        failures.append("keys printed but not in sim_host/README.md's table: " +
-                        ", ".join(f"{k} ({seen[k][0]})" for k in extra))
-    if missing:
-        failures.append("keys in sim_host/README.md's table that no run printed: " +
-                        ", ".join(missing))
+    failures, seen = compare_printed_keys(run, runs, documented, "sim_host/README.md's table")
     failures += check_ecu_keys(os.path.abspath(args.source))
     for node in ("plant", "controller"):
         failures += check_writer_keys(os.path.abspath(args.source), node,
@@ -552,6 +531,15 @@ def check_closed_loop_keys(source, run, end_stops):
         "closed-loop --sweep-gain": [*base, "--output", "sweep.csv", "--controller", "skyhook",
                                      "--sweep-gain", "0:2000:3", "--plot", "pareto.png"],
     }
+    failures, _ = compare_printed_keys(run, runs, documented,
+                                       "sim_host/README.md's closed-loop table")
+    return failures
+
+
+def compare_printed_keys(run, runs, documented, table):
+    """Runs each command of `runs` (name -> arguments) and compares the keys of its JSON line with
+    `documented` (key -> 'always' or a condition): every 'always' key in every run, every printed
+    key in the table, every key of the table printed by some run. Returns (failures, seen)."""
     seen = {}
     failures = []
     for name, command in runs.items():
@@ -569,12 +557,11 @@ def check_closed_loop_keys(source, run, end_stops):
     extra = sorted(set(seen) - set(documented))
     missing = sorted(set(documented) - set(seen))
     if extra:
-        failures.append("closed-loop keys printed but not in sim_host/README.md's closed-loop "
-                        "table: " + ", ".join(f"{k} ({seen[k][0]})" for k in extra))
+        failures.append(f"keys printed but not in {table}: " +
+                        ", ".join(f"{k} ({seen[k][0]})" for k in extra))
     if missing:
-        failures.append("keys in sim_host/README.md's closed-loop table that no run printed: " +
-                        ", ".join(missing))
-    return failures
+        failures.append(f"keys in {table} that no run printed: " + ", ".join(missing))
+    return failures, seen
 
 
 def check_ecu_keys(source):

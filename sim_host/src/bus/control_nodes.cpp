@@ -189,19 +189,8 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
 
   ClosedLoopTrace trace;
   SimulationTrace<double>& plant = trace.plant;
-  plant.x_r_m.resize(count);
-  plant.v_r_m_per_s.resize(count);
-  plant.a_x_m_per_s2.resize(count);
-  plant.friction_n.resize(count);
-  plant.stuck.resize(count);
+  plant.resize(count);
   trace.f_a_n.assign(count, 0.0);
-  const auto store = [&](std::size_t n, const StepOutput<double>& out) {
-    plant.x_r_m[n] = out.x_r_m;
-    plant.v_r_m_per_s[n] = out.v_r_m_per_s;
-    plant.a_x_m_per_s2[n] = out.a_x_m_per_s2;
-    plant.friction_n[n] = out.friction_n;
-    plant.stuck[n] = out.stuck ? 1 : 0;
-  };
   // The streams closed-loop draws, so that the noisy sensors are the same samples.
   GaussianSource a_x_noise(setup.seed, 1), x_r_noise(setup.seed, 2);
   RunningStatistics<double> steps;
@@ -303,7 +292,7 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
     if (!configured.ok())
       throw UsageError(fmt::format("invalid parameters: {}", configured.message.c_str()));
     seat.reset(setup.plant.x0_m, setup.plant.v0_m_per_s, a_u[0]);
-    store(0, seat.current());
+    plant.store(0, seat.current());
     steps.add_sample(a_u[0], plant.a_x_m_per_s2[0]);
     // Sample 0 is the greeting: re-sent every 100 ms until the controller answers it.
     const Clock::time_point connect_deadline =
@@ -333,7 +322,7 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
         if (n >= 2) force_n = decide(n - 1, await_answer(n - 1, Clock::now()));
       }
       const StepOutput<double> out = seat.step(a_u[n], force_n);
-      store(n, out);
+      plant.store(n, out);
       trace.f_a_n[n] = force_n;
       steps.add_sample(a_u[n], out.a_x_m_per_s2);
       steps.add_step(out.stuck_fraction);
@@ -360,15 +349,7 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
   CsvWriter writer(output);
   write_loop_trace(writer, signal.t_s, a_u, trace);
   if (stats) stats->write(result.json + "\n");
-  output.commit();
-  if (stats) {
-    try {
-      stats->commit();
-    } catch (...) {
-      std::remove(request.output_path.c_str());
-      throw;
-    }
-  }
+  commit_with_stats(output, stats ? &*stats : nullptr);
   return result;
 }
 

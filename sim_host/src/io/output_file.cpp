@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <system_error>
@@ -134,6 +135,17 @@ void CsvWriter::grow(std::size_t bytes) {
   const std::size_t used = static_cast<std::size_t>(end_ - buffer_.data());
   buffer_.resize(used + bytes + buffer_.size());
   end_ = buffer_.data() + used;
+}
+
+void commit_with_stats(AtomicOutputFile& output, AtomicOutputFile* stats) {
+  output.commit();
+  if (stats == nullptr) return;
+  try {
+    stats->commit();
+  } catch (...) {
+    std::remove(output.path().c_str());
+    throw;
+  }
 }
 
 }  // namespace stickslip::host

@@ -180,21 +180,10 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
   if (setup.user != nullptr) loop.set_user_controller(*setup.user);
 
   SimulationTrace<double>& plant = trace.plant;
-  plant.x_r_m.resize(count);
-  plant.v_r_m_per_s.resize(count);
-  plant.a_x_m_per_s2.resize(count);
-  plant.friction_n.resize(count);
-  plant.stuck.resize(count);
+  plant.resize(count);
   trace.f_a_n.assign(count, 0.0);
   trace.command_n.assign(count, 0.0);
   trace.sensed_v_r_m_per_s.assign(count, 0.0);
-  const auto store = [&](std::size_t n, const StepOutput<double>& out) {
-    plant.x_r_m[n] = out.x_r_m;
-    plant.v_r_m_per_s[n] = out.v_r_m_per_s;
-    plant.a_x_m_per_s2[n] = out.a_x_m_per_s2;
-    plant.friction_n[n] = out.friction_n;
-    plant.stuck[n] = out.stuck ? 1 : 0;
-  };
   // Independent streams for the two sensors, so that adding noise to one leaves the other's.
   GaussianSource a_x_noise(setup.seed, 1), x_r_noise(setup.seed, 2);
   // p as simulate's statistics take it: samples and steps in the same order (the block sums
@@ -210,7 +199,7 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
     // No force at the start: the passive reset, as simulate's.
     seat.reset(setup.plant.x0_m, setup.plant.v0_m_per_s, a_u[0]);
-    store(0, seat.current());
+    plant.store(0, seat.current());
     steps.add_sample(a_u[0], plant.a_x_m_per_s2[0]);
     loop.reset(a_u[0], setup.plant.x0_m);
     for (std::size_t n = 1; n < count; ++n) {
@@ -218,7 +207,7 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
           setup.a_x_noise_m_per_s2 > 0.0 ? setup.a_x_noise_m_per_s2 * a_x_noise.next() : 0.0;
       const double xr_noise = setup.x_r_noise_m > 0.0 ? setup.x_r_noise_m * x_r_noise.next() : 0.0;
       const LoopSample<double> sample = loop.step(seat, a_u[n], ax_noise, xr_noise);
-      store(n, sample.plant);
+      plant.store(n, sample.plant);
       trace.f_a_n[n] = sample.applied_force_n;
       trace.command_n[n] = sample.command_n;
       trace.sensed_v_r_m_per_s[n] = sample.sensed.v_r_m_per_s;
@@ -502,15 +491,7 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
   json["output"] = request.output_path;
   result.json = json.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
   if (stats) stats->write(result.json + "\n");
-  output.commit();
-  if (stats) {
-    try {
-      stats->commit();
-    } catch (...) {
-      std::remove(request.output_path.c_str());
-      throw;
-    }
-  }
+  commit_with_stats(output, stats ? &*stats : nullptr);
   return result;
 }
 

@@ -313,15 +313,7 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   }
   if (stats) stats->write(result.stats_json + "\n");
 
-  output.commit();
-  if (stats) {
-    try {
-      stats->commit();
-    } catch (...) {
-      std::remove(request.output_path.c_str());  // all or nothing
-      throw;
-    }
-  }
+  commit_with_stats(output, stats ? &*stats : nullptr);
   return result;
 }
 

@@ -242,19 +242,12 @@ void run_actuated(Model& oscillator, const SimulationSetup& setup, const T* inpu
                    force[0]);
   statistics.reset();
   events = 0;
-  const auto store = [&](std::size_t n, const StepOutput<T>& out) {
-    trace.x_r_m[n] = out.x_r_m;
-    trace.v_r_m_per_s[n] = out.v_r_m_per_s;
-    trace.a_x_m_per_s2[n] = out.a_x_m_per_s2;
-    trace.friction_n[n] = out.friction_n;
-    trace.stuck[n] = out.stuck ? 1 : 0;
-  };
   const StepOutput<T> initial = oscillator.current_with_force(force[0]);
-  store(0, initial);
+  trace.store(0, initial);
   statistics.add_sample(input[0], initial.a_x_m_per_s2);
   for (std::size_t n = 1; n < count; ++n) {
     const StepOutput<T> out = oscillator.step(input[n], force[n]);
-    store(n, out);
+    trace.store(n, out);
     statistics.add_sample(input[n], out.a_x_m_per_s2);
     statistics.add_step(out.stuck_fraction);
     events += out.events;

@@ -49,39 +49,18 @@ struct LoopSample {
 // resolution (0: not quantised).
 template <typename T>
 class LoopSensors {
-  using S = ScalarTraits<T>;
-
  public:
   ConfigResult configure(const ClosedLoopParams& p) noexcept {
-    const auto resolution_bad = [](const char* name, double value) {
-      ConfigResult r = refusal(std::isfinite(value) ? Status::out_of_range : Status::not_finite);
-      r.message.append(name).append(": must be finite and >= 0, got ").append(value);
-      return r;
-    };
-    if (!(p.seat_acceleration_resolution_m_per_s2 >= 0.0 &&
-          std::isfinite(p.seat_acceleration_resolution_m_per_s2)))
-      return resolution_bad("seat_acceleration_resolution_m_per_s2",
-                            p.seat_acceleration_resolution_m_per_s2);
-    if (!(p.travel_resolution_m >= 0.0 && std::isfinite(p.travel_resolution_m)))
-      return resolution_bad("travel_resolution_m", p.travel_resolution_m);
-    a_x_quantum_ = S::from_double(p.seat_acceleration_resolution_m_per_s2);
-    a_x_inverse_quantum_ = S::from_double(p.seat_acceleration_resolution_m_per_s2 > 0.0
-                                              ? 1.0 / p.seat_acceleration_resolution_m_per_s2
-                                              : 0.0);
-    x_r_quantum_ = S::from_double(p.travel_resolution_m);
-    x_r_inverse_quantum_ =
-        S::from_double(p.travel_resolution_m > 0.0 ? 1.0 / p.travel_resolution_m : 0.0);
-    return {};
+    ConfigResult r = a_x_.configure("seat_acceleration_resolution_m_per_s2",
+                                    p.seat_acceleration_resolution_m_per_s2);
+    if (!r.ok()) return r;
+    return x_r_.configure("travel_resolution_m", p.travel_resolution_m);
   }
-  T a_x(T value, T noise) const noexcept {
-    return quantise_to(value + noise, a_x_quantum_, a_x_inverse_quantum_);
-  }
-  T x_r(T value, T noise) const noexcept {
-    return quantise_to(value + noise, x_r_quantum_, x_r_inverse_quantum_);
-  }
+  T a_x(T value, T noise) const noexcept { return a_x_(value + noise); }
+  T x_r(T value, T noise) const noexcept { return x_r_(value + noise); }
 
  private:
-  T a_x_quantum_{}, a_x_inverse_quantum_{}, x_r_quantum_{}, x_r_inverse_quantum_{};
+  Quantiser<T> a_x_, x_r_;
 };
 
 template <typename T>

@@ -44,14 +44,35 @@ struct ClosedLoopParams {
   double force_resolution_n = 0.0;
 };
 
-// Round to the nearest multiple of quantum (halves away from zero, as std::round and the CAN
-// codec); quantum 0: the value itself. A value that rounds to zero is +0, as the codec's integer
-// code decodes (+ 0 turns -0 into +0 and leaves every other value as it is).
+// A declared resolution (>= 0 and finite; 0: not quantised) and the rounding to it.
 template <typename T>
-T quantise_to(T value, T quantum, T inverse_quantum) noexcept {
-  if (!(quantum > T(0))) return value;
-  return quantum * static_cast<T>(std::round(value * inverse_quantum)) + T(0);
-}
+class Quantiser {
+  using S = ScalarTraits<T>;
+
+ public:
+  // `name` is the parameter the refusal names.
+  ConfigResult configure(const char* name, double resolution) noexcept {
+    if (!(resolution >= 0.0 && std::isfinite(resolution))) {
+      ConfigResult r =
+          refusal(std::isfinite(resolution) ? Status::out_of_range : Status::not_finite);
+      r.message.append(name).append(": must be finite and >= 0, got ").append(resolution);
+      return r;
+    }
+    quantum_ = S::from_double(resolution);
+    inverse_quantum_ = S::from_double(resolution > 0.0 ? 1.0 / resolution : 0.0);
+    return {};
+  }
+  // The nearest multiple of the quantum (halves away from zero, as std::round and the CAN
+  // codec); quantum 0: the value itself. A value that rounds to zero is +0, as the codec's
+  // integer code decodes (+ 0 turns -0 into +0 and leaves every other value as it is).
+  T operator()(T value) const noexcept {
+    if (!(quantum_ > T(0))) return value;
+    return quantum_ * static_cast<T>(std::round(value * inverse_quantum_)) + T(0);
+  }
+
+ private:
+  T quantum_{}, inverse_quantum_{};
+};
 
 // What the unit did at one sample.
 template <typename T>
@@ -72,18 +93,11 @@ class ControlUnit {
       r.message.append("dt_s: must be finite and > 0, got ").append(p.dt_s);
       return r;
     }
-    const auto resolution_bad = [](const char* name, double value) {
-      ConfigResult r = refusal(std::isfinite(value) ? Status::out_of_range : Status::not_finite);
-      r.message.append(name).append(": must be finite and >= 0, got ").append(value);
-      return r;
-    };
-    if (!(p.floor_acceleration_resolution_m_per_s2 >= 0.0 &&
-          std::isfinite(p.floor_acceleration_resolution_m_per_s2)))
-      return resolution_bad("floor_acceleration_resolution_m_per_s2",
-                            p.floor_acceleration_resolution_m_per_s2);
-    if (!(p.force_resolution_n >= 0.0 && std::isfinite(p.force_resolution_n)))
-      return resolution_bad("force_resolution_n", p.force_resolution_n);
-    ConfigResult r;
+    ConfigResult r = a_u_seen_.configure("floor_acceleration_resolution_m_per_s2",
+                                         p.floor_acceleration_resolution_m_per_s2);
+    if (!r.ok()) return r;
+    r = force_sent_.configure("force_resolution_n", p.force_resolution_n);
+    if (!r.ok()) return r;
     if (p.controller == LoopController::hook) {
       r = hook_.configure(p.hook);
       if (!r.ok()) return r;
@@ -111,11 +125,6 @@ class ControlUnit {
     controller_ = p.controller;
     observer_ = p.observer;
     compensate_ = p.friction_compensation_fraction > 0.0;
-    const auto inverse = [](double q) { return q > 0.0 ? 1.0 / q : 0.0; };
-    a_u_quantum_ = S::from_double(p.floor_acceleration_resolution_m_per_s2);
-    a_u_inverse_quantum_ = S::from_double(inverse(p.floor_acceleration_resolution_m_per_s2));
-    force_quantum_ = S::from_double(p.force_resolution_n);
-    force_inverse_quantum_ = S::from_double(inverse(p.force_resolution_n));
     return {};
   }
 
@@ -129,8 +138,7 @@ class ControlUnit {
     force_n_ = T(0);
     seat_velocity_.reset();
     floor_velocity_.reset();
-    if (observer_ == ObserverKind::estimator)
-      estimator_.reset(quantise_to(a_u0, a_u_quantum_, a_u_inverse_quantum_), x0_m);
+    if (observer_ == ObserverKind::estimator) estimator_.reset(a_u_seen_(a_u0), x0_m);
   }
 
   // The force held over the next plant step (0 before the first sample), as the bus carries it.
@@ -141,7 +149,7 @@ class ControlUnit {
   // ObserverKind::ideal).
   UnitSample<T> step(T a_u, T a_x_measured, T x_r_measured, T applied_force_n, T ideal_v_r = T(0),
                      T ideal_friction_n = T(0)) noexcept {
-    const T a_u_seen = quantise_to(a_u, a_u_quantum_, a_u_inverse_quantum_);
+    const T a_u_seen = a_u_seen_(a_u);
     T v_r = ideal_v_r, friction = ideal_friction_n;
     if (observer_ == ObserverKind::estimator) {
       // The estimator's model has no actuator input, but a force held over the step is a shift
@@ -169,7 +177,7 @@ class ControlUnit {
     if (controller_ == LoopController::user) command = user_.step(sample.sensed);
     if (compensate_) command = command + compensation_.step(sample.sensed);
     sample.command_n = command;
-    force_n_ = quantise_to(actuator_.step(command), force_quantum_, force_inverse_quantum_);
+    force_n_ = force_sent_(actuator_.step(command));
     sample.next_force_n = force_n_;
     return sample;
   }
@@ -184,7 +192,7 @@ class ControlUnit {
   Actuator<T> actuator_;
   AbsoluteVelocity<T> seat_velocity_, floor_velocity_;
   StateEstimator<T> estimator_;
-  T a_u_quantum_{}, a_u_inverse_quantum_{}, force_quantum_{}, force_inverse_quantum_{};
+  Quantiser<T> a_u_seen_, force_sent_;  // the bus's resolutions
   T inverse_mass_{};
   T force_n_{};
 };

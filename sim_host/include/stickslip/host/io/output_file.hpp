@@ -42,6 +42,10 @@ class AtomicOutputFile {
   int slot_ = -1;  // index in the table of live temporaries; -1 when not listed
 };
 
+// Commits `output`, then `stats` (if any); when the second commit fails the first file is
+// removed again, so that a run leaves both files or neither.
+void commit_with_stats(AtomicOutputFile& output, AtomicOutputFile* stats);
+
 // Unlinks every temporary an AtomicOutputFile holds now. Async-signal-safe (unlink(2) only, over
 // a table of fixed size written before the path is published), for a SIGINT/SIGTERM handler;
 // returns how many it removed. Final outputs are never touched: a rename has either happened

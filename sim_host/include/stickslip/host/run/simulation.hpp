@@ -10,6 +10,7 @@
 #include "stickslip/core/params.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/models/scene.hpp"
+#include "stickslip/models/step_common.hpp"
 
 namespace stickslip::host {
 
@@ -46,6 +47,14 @@ struct SimulationTrace {
   void resize(std::size_t rows) {
     for (auto* column : {&x_r_m, &v_r_m_per_s, &a_x_m_per_s2, &friction_n}) column->resize(rows);
     stuck.resize(rows);
+  }
+
+  void store(std::size_t row, const StepOutput<T>& out) {
+    x_r_m[row] = out.x_r_m;
+    v_r_m_per_s[row] = out.v_r_m_per_s;
+    a_x_m_per_s2[row] = out.a_x_m_per_s2;
+    friction_n[row] = out.friction_n;
+    stuck[row] = out.stuck ? 1 : 0;
   }
 };
 

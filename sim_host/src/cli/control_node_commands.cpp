@@ -45,10 +45,7 @@ class PlantCommand : public Command {
     model_.add_to(command, request_.setup.plant,
                   "scene file (TOML, docs/scenes/) without end stops; the flags below override it");
     ClosedLoopSetup& s = request_.setup;
-    command.add_option("--a-x-noise", s.a_x_noise_m_per_s2,
-                       "seat accelerometer noise, RMS per sample, m/s^2 (default 0)");
-    command.add_option("--x-r-noise", s.x_r_noise_m,
-                       "travel sensor noise, RMS per sample, m (default 0)");
+    add_sensor_noise_options(command, s);
     command.add_option("--seed", s.seed, "seed of the sensor noise (default 1)");
     command.add_option("--pace", pace_,
                        "max (lock-step: each answer awaited; default) | realtime (one sample "

@@ -5,6 +5,13 @@
 
 namespace stickslip::host {
 
+void add_sensor_noise_options(CLI::App& command, ClosedLoopSetup& setup) {
+  command.add_option("--a-x-noise", setup.a_x_noise_m_per_s2,
+                     "seat accelerometer noise, RMS per sample, m/s^2 (default 0)");
+  command.add_option("--x-r-noise", setup.x_r_noise_m,
+                     "travel sensor noise, RMS per sample, m (default 0)");
+}
+
 void LoopControllerOptions::add_to(CLI::App& command, ClosedLoopSetup& setup) {
   command.add_option("--controller", controller_,
                      "passive | skyhook | groundhook | skyhook-semi | groundhook-semi | "
@@ -24,10 +31,7 @@ void LoopControllerOptions::add_to(CLI::App& command, ClosedLoopSetup& setup) {
   command.add_option("--observer", observer_,
                      "estimator (state estimator on the measured a_x, x_r; default) | ideal "
                      "(the controller reads the plant's own v_r and F_f)");
-  command.add_option("--a-x-noise", setup.a_x_noise_m_per_s2,
-                     "seat accelerometer noise, RMS per sample, m/s^2 (default 0)");
-  command.add_option("--x-r-noise", setup.x_r_noise_m,
-                     "travel sensor noise, RMS per sample, m (default 0)");
+  add_sensor_noise_options(command, setup);
 }
 
 void LoopControllerOptions::resolve(const CLI::App& command, ClosedLoopSetup& setup) const {

@@ -10,6 +10,9 @@
 
 namespace stickslip::host {
 
+// --a-x-noise and --x-r-noise: the plant's sensor noise (closed-loop and plant).
+void add_sensor_noise_options(CLI::App& command, ClosedLoopSetup& setup);
+
 class LoopControllerOptions {
  public:
   void add_to(CLI::App& command, ClosedLoopSetup& setup);

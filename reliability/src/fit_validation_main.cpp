@@ -312,7 +312,7 @@ int run_trials(const RigSpec& base, const std::vector<double>& ks,
   }
   std::puts("");
   std::puts(
-      "| K | trials | within 2/2/3/3 % k / b / F_fk / F_fs | worst |error| | 95 % intervals "
+      "| K | trials | within 2/2/3/3 % k / b / F_fk / F_fs | worst \\|error\\| | 95 % intervals "
       "covering the truth | mean 95 % half-width | residual above the truth's | largest "
       "Cramer-Rao sd of F_fs | CPU s per fit, median / max |");
   std::puts("|---|---|---|---|---|---|---|---|---|");

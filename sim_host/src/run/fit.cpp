@@ -293,6 +293,8 @@ void descend(Attempt& best, const FitRequest& request, std::size_t residual_coun
     ++best.local_runs;
     if (next.cost <= best.fit.cost) {
       next.iterations += best.fit.iterations;
+      // the descent starts from a converged fit and only lowers the cost: a last run stopped by
+      // its iteration limit still ends lower than the converged point it started below
       next.converged = next.converged || best.fit.converged;
       best.fit = next;
     }

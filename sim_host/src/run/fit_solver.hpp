@@ -10,10 +10,19 @@
 
 namespace stickslip::host {
 
-// Box bounds on the unknowns u, and the finite-difference step in u.
+// Box bounds on the unknowns u, and the finite-difference steps in u.
 struct FitBox {
   std::vector<double> lower, upper;
+  // Levenberg-Marquardt's Jacobian: a secant over many treads of the staircase (pattern_search).
   double step = 1e-3;
+  // The intervals' Jacobian, the derivative of the smooth piece the fit ended on. A step of 1e-3
+  // moves dozens of events across samples; where a moved stick or break-away changes the motion
+  // for a long run of samples on both sides, the per-sample rule of fit_jacobian() cannot pick a
+  // smooth side and a column blows up: at K = 1.5 the F_fk interval of 3 of 12 validation fits
+  // came out 3-12 times narrower than the others' (0.005-0.020 % against 0.06 %) and missed the
+  // truth. At 1e-5 they agree with the rest (0.060-0.068 %); the differences still lie far above
+  // rounding (a_x to about 1e-15 m/s^2, so about 1e-10 against sensitivities of 0.01-1).
+  double covariance_step = 1e-5;
 };
 
 struct LocalFit {

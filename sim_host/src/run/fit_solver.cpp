@@ -163,7 +163,8 @@ FitCovariance fit_covariance(const FitProblem& problem, const std::vector<double
   out.correlation.assign(count, std::vector<double>(count, std::nan("")));
   std::vector<double> residuals, columns;
   if (!fit_residuals(problem, u.data(), residuals) ||
-      !fit_jacobian(problem, u.data(), box.lower, box.upper, box.covariance_step, residuals, columns)) {
+      !fit_jacobian(problem, u.data(), box.lower, box.upper, box.covariance_step, residuals,
+                    columns)) {
     return out;
   }
   const auto rows = static_cast<Eigen::Index>(residuals.size());

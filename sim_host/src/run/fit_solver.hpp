@@ -39,12 +39,13 @@ LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<d
 
 // A derivative-free descent on the exact cost from `start`, for what Levenberg-Marquardt cannot
 // see: a sample's a_x jumps where a stick or break-away crosses it, so near the minimum the cost
-// is a staircase of plateaus far narrower than the intervals (a step of 0.05 standard errors in
-// the parameters can change the residual RMS by 0.5 %), and the Jacobian of the smooth pieces
-// sees a flat tread. A compass search (Kolda, Lewis & Torczon, SIAM Review 45, 2003) along the
-// principal axes of the Gauss-Newton covariance at `start`: steps of `first_step` standard errors
-// along each axis both ways, a success repeated with the step doubled, no success halves the step,
-// down to `last_step` or `max_evaluations` model runs. Every point it accepts has a lower cost.
+// is a staircase of plateaus far narrower than the intervals (a move of 0.1-0.2 standard errors
+// in the parameters can change the residual RMS by 0.5-1 %), and the Jacobian of the smooth
+// pieces sees a flat tread. A compass search (Kolda, Lewis & Torczon, SIAM Review 45, 2003) along
+// the principal axes of the Gauss-Newton covariance at `start`: steps of `first_step` standard
+// errors along each axis both ways, a success repeated with the step doubled, no success halves the
+// step, down to `last_step` or `max_evaluations` model runs. Every point it accepts has a lower
+// cost.
 struct PatternSearch {
   std::vector<double> u;
   double cost = 0.0;

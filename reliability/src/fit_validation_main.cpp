@@ -3,11 +3,14 @@
 // solver (run/reference_solver.hpp, independent of the core's step maps and event search that
 // the fit simulates with), white accelerometer noise on a_x and a_u (seeded). Per trial the
 // relative errors of k, b, F_fk, F_fs and whether each 95 % interval covers the truth; at the end
-// the coverage per parameter. Exit status 1 when an error exceeds its tolerance (k, b: 2 %; F_fk,
-// F_fs: 3 %) or a coverage is below --min-coverage.
+// the coverage per parameter. Per trial also the truth's own residual RMS (a fit above it stopped
+// short of the minimum) and the Cramer-Rao standard deviations (the Gauss-Newton ones with the
+// Jacobian at the truth and the known noise, fit.hpp probe_fit). Exit status 1 when an error
+// exceeds its tolerance (k, b: 2 %; F_fk, F_fs: 3 %) or a coverage is below --min-coverage.
 //
-//   stickslip_fit_validation [--trials N] [--first-seed S] [--K K1,K2,...] [--duration S]
-//                            [--min-coverage C]
+//   stickslip_fit_validation [--trials N] [--first-seed S | --seeds S1,S2,...] [--K K1,K2,...]
+//                            [--duration S] [--min-coverage C] [--travel] [--floor-noise A]
+//                            [--jobs J]
 //   stickslip_fit_validation --write-rig FILE [--seed S] [--K K] [--duration S]
 //                            [--shift-samples N] [--ax-in-g] [--unit-header] [--no-ax] [--travel]
 //                            [--static-ratio R]
@@ -15,13 +18,18 @@
 // a_x by g, --unit-header names the units in the header, --shift-samples delays a_x.)
 #include <fmt/format.h>
 
+#include <time.h>
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <exception>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "stickslip/host/error.hpp"
@@ -118,61 +126,118 @@ int write_rig(const char* path, const RigRecording& rig, const WriteOptions& opt
 
 struct Tally {
   int trials = 0, failures = 0;
+  int within[4] = {0, 0, 0, 0};  // |error| within the tolerance
   int covered[4] = {0, 0, 0, 0};
   int covered_hac[4] = {0, 0, 0, 0};
   double width_sum[4] = {0, 0, 0, 0}, width_hac_sum[4] = {0, 0, 0, 0};  // relative half-widths
   double worst[4] = {0, 0, 0, 0};
-  double slowest_s = 0.0;
+  int above_truth = 0;  // fits whose residual is above the truth's (the optimiser stopped short)
+  double largest_crb_ffs = 0.0;  // relative Cramer-Rao standard deviation of F_fs
+  std::vector<double> cpu_s;
 };
 
 constexpr FitParameter kChecked[4] = {FitParameter::stiffness, FitParameter::damping,
                                       FitParameter::ffk, FitParameter::ffs};
 constexpr double kTolerance[4] = {0.02, 0.02, 0.03, 0.03};
 
-void run_trial(const RigSpec& spec, Tally& tally) {
+// One fit's figures against the truth.
+struct Outcome {
+  bool within[4] = {}, covered[4] = {}, covered_hac[4] = {};
+  double width[4] = {}, width_hac[4] = {}, error[4] = {};
+  double crb_ffs = 0.0;
+  bool above_truth = false, ok = false;
+  double cpu_s = 0.0;
+};
+
+void add_trial(Tally& tally, const Outcome& o) {
+  ++tally.trials;
+  tally.failures += o.ok ? 0 : 1;
+  for (int i = 0; i < 4; ++i) {
+    tally.within[i] += o.within[i] ? 1 : 0;
+    tally.covered[i] += o.covered[i] ? 1 : 0;
+    tally.covered_hac[i] += o.covered_hac[i] ? 1 : 0;
+    tally.width_sum[i] += o.width[i];
+    tally.width_hac_sum[i] += o.width_hac[i];
+    tally.worst[i] = std::max(tally.worst[i], std::fabs(o.error[i]));
+  }
+  tally.above_truth += o.above_truth ? 1 : 0;
+  tally.largest_crb_ffs = std::max(tally.largest_crb_ffs, o.crb_ffs);
+  tally.cpu_s.push_back(o.cpu_s);
+}
+
+// CPU time of the calling thread (the fits run on --jobs threads).
+double thread_cpu_s() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// One fit; prints its row (under `print`) and returns its figures.
+Outcome run_trial(const RigSpec& spec, std::mutex& print) {
   const OscillatorParams truth = truth_for(spec);
   const RigRecording rig = make_rig(spec, truth);
   FitRequest request;
   request.mass_kg = truth.mass_kg;
+  if (spec.travel) request.travel_noise_m = spec.travel_noise_m;
   for (FitParameter parameter : kChecked) request.fit[static_cast<std::size_t>(parameter)] = true;
-  const std::clock_t cpu_start = std::clock();
+  const double cpu_start = thread_cpu_s();
   const FitResult result = fit_seat(rig, request);
-  const double cpu_s = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  const double cpu_s = thread_cpu_s() - cpu_start;
+  // The truth's own residual, and the Gauss-Newton intervals with the Jacobian at the truth and
+  // the known noise: the Cramer-Rao bound (fit.hpp, probe_fit).
+  const FitProbe at_truth = probe_fit(rig, request, truth);
   const double true_value[4] = {truth.stiffness_n_per_m, truth.damping_ns_per_m,
                                 truth.kinetic_friction_n, truth.static_friction_n};
   std::string row = fmt::format("| {:.2f} | {} |", spec.den_hartog_k, spec.seed);
+  Outcome o;
   bool ok = result.converged;
+  double crb[4];
   for (int i = 0; i < 4; ++i) {
     const auto k = static_cast<std::size_t>(kChecked[i]);
-    const double error = result.value[k] / true_value[i] - 1.0;
-    const bool covered = std::fabs(result.value[k] - true_value[i]) <= result.ci95[k];
-    tally.covered[i] += covered ? 1 : 0;
-    const bool covered_hac = std::fabs(result.value[k] - true_value[i]) <= result.ci95_hac[k];
-    tally.covered_hac[i] += covered_hac ? 1 : 0;
-    tally.width_sum[i] += result.ci95[k] / true_value[i];
-    tally.width_hac_sum[i] += result.ci95_hac[k] / true_value[i];
-    tally.worst[i] = std::max(tally.worst[i], std::fabs(error));
-    ok = ok && std::fabs(error) <= kTolerance[i];
-    row += fmt::format(" {:+.3f} % ({:.3f} %{}) |", 100.0 * error,
-                       100.0 * result.ci95[k] / true_value[i], covered ? "" : ", missed");
+    o.error[i] = result.value[k] / true_value[i] - 1.0;
+    o.within[i] = std::fabs(o.error[i]) <= kTolerance[i];
+    o.covered[i] = std::fabs(result.value[k] - true_value[i]) <= result.ci95[k];
+    o.covered_hac[i] = std::fabs(result.value[k] - true_value[i]) <= result.ci95_hac[k];
+    o.width[i] = result.ci95[k] / true_value[i];
+    o.width_hac[i] = result.ci95_hac[k] / true_value[i];
+    crb[i] = at_truth.ci95[k] / 1.959963984540054 * spec.noise_m_per_s2 /
+             at_truth.rms_residual_m_per_s2 / true_value[i];
+    ok = ok && o.within[i];
+    row += fmt::format(" {:+.3f} % ({:.3f} %{}) |", 100.0 * o.error[i], 100.0 * o.width[i],
+                       o.covered[i] ? "" : ", missed");
   }
   row += " HAC:";
-  for (int i = 0; i < 4; ++i) {
-    const auto k = static_cast<std::size_t>(kChecked[i]);
-    row += fmt::format(
-        " {:.3f} %{}", 100.0 * result.ci95_hac[k] / true_value[i],
-        std::fabs(result.value[k] - true_value[i]) <= result.ci95_hac[k] ? "" : " missed");
-  }
+  for (int i = 0; i < 4; ++i)
+    row += fmt::format(" {:.3f} %{}", 100.0 * o.width_hac[i], o.covered_hac[i] ? "" : " missed");
   row += fmt::format(" (L {}, rho1 {:.3f}) |", result.hac_lag, result.residual_lag1_correlation);
-  row += fmt::format(" {:.4f} | {:.4f} / {:.4f} | {} | {:.2f} / {:.2f} |{}",
-                     result.rms_residual_m_per_s2, result.stick_probability_measured,
-                     result.stick_probability_model, result.iterations, result.seconds, cpu_s,
-                     ok ? "" : " FAIL");
-  std::puts(row.c_str());
-  std::fflush(stdout);
-  ++tally.trials;
-  tally.failures += ok ? 0 : 1;
-  tally.slowest_s = std::max(tally.slowest_s, cpu_s);
+  row += " CRB sd:";
+  for (int i = 0; i < 4; ++i) row += fmt::format(" {:.3f} %", 100.0 * crb[i]);
+  // 1e-9 relative: the two costs are sums of 120000 squares, equal to rounding when both are the
+  // same minimum.
+  const bool above_truth =
+      result.rms_residual_m_per_s2 > at_truth.rms_residual_m_per_s2 * (1.0 + 1e-9);
+  row += fmt::format(" | {:.5f} / {:.5f}{} | {:.4f} / {:.4f} | {} | {} + {} | {:.2f} / {:.2f} |{}",
+                     result.rms_residual_m_per_s2, at_truth.rms_residual_m_per_s2,
+                     above_truth ? " above" : "", result.stick_probability_measured,
+                     result.stick_probability_model, result.iterations, result.local_runs,
+                     result.search_evaluations, result.seconds, cpu_s, ok ? "" : " FAIL");
+  {
+    const std::lock_guard<std::mutex> lock(print);
+    std::puts(row.c_str());
+    std::fflush(stdout);
+  }
+  o.crb_ffs = crb[3];
+  o.above_truth = above_truth;
+  o.ok = ok;
+  o.cpu_s = cpu_s;
+  return o;
 }
 
 std::vector<double> parse_list(const char* text) {
@@ -186,40 +251,103 @@ std::vector<double> parse_list(const char* text) {
   return values;
 }
 
-int run_trials(const RigSpec& base, const std::vector<double>& ks, int trials,
-               std::uint64_t first_seed, double min_coverage) {
+std::string percent(int count, int trials) {
+  return fmt::format("{:.0f}", 100.0 * count / trials);
+}
+
+// One row of the summary table (docs/IDENTIFICATION.md, "Validation").
+std::string summary_row(const std::string& label, const Tally& t) {
+  const std::vector<double>& cpu = t.cpu_s;
+  return fmt::format(
+      "| {} | {} | {} / {} / {} / {} | {:.3f} / {:.3f} / {:.3f} / {:.3f} % | {} / {} / {} / {} "
+      "({} / {} / {} / {} %) | {:.3f} / {:.3f} / {:.3f} / {:.3f} % | {} | {:.2f} % | {:.2f} / "
+      "{:.2f} |",
+      label, t.trials, t.within[0], t.within[1], t.within[2], t.within[3], 100.0 * t.worst[0],
+      100.0 * t.worst[1], 100.0 * t.worst[2], 100.0 * t.worst[3], t.covered[0], t.covered[1],
+      t.covered[2], t.covered[3], percent(t.covered[0], t.trials), percent(t.covered[1], t.trials),
+      percent(t.covered[2], t.trials), percent(t.covered[3], t.trials),
+      100.0 * t.width_sum[0] / t.trials, 100.0 * t.width_sum[1] / t.trials,
+      100.0 * t.width_sum[2] / t.trials, 100.0 * t.width_sum[3] / t.trials, t.above_truth,
+      100.0 * t.largest_crb_ffs, median(cpu), *std::max_element(cpu.begin(), cpu.end()));
+}
+
+int run_trials(const RigSpec& base, const std::vector<double>& ks,
+               const std::vector<std::uint64_t>& seeds, double min_coverage, int jobs) {
+  const int trials = static_cast<int>(seeds.size());
   std::puts(
       "| K | seed | k err (CI) | b err (CI) | F_fk err (CI) | F_fs err (CI) | HAC intervals | "
-      "rms res | p meas / model | iter | wall / CPU s |");
-  std::puts("|---|---|---|---|---|---|---|---|---|---|---|");
-  Tally tally;
+      "rms res fit / truth | p meas / model | iter | LM runs + search runs | wall / CPU s |");
+  std::puts("|---|---|---|---|---|---|---|---|---|---|---|---|");
+  // Trial t: seeds[t], K = ks[t % size]; the trials are shared out to `jobs` threads
+  // (each fit single-threaded) and tallied in trial order.
+  std::vector<Outcome> outcomes(static_cast<std::size_t>(trials));
+  std::atomic<int> next{0};
+  std::mutex print;
+  std::exception_ptr failure;
+  const auto work = [&] {
+    for (int t = next++; t < trials; t = next++) {
+      RigSpec spec = base;
+      spec.seed = seeds[static_cast<std::size_t>(t)];
+      spec.den_hartog_k = ks[static_cast<std::size_t>(t) % ks.size()];
+      try {
+        outcomes[static_cast<std::size_t>(t)] = run_trial(spec, print);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(print);
+        failure = std::current_exception();
+        next = trials;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int j = 1; j < jobs; ++j) pool.emplace_back(work);
+  work();
+  for (std::thread& thread : pool) thread.join();
+  if (failure) std::rethrow_exception(failure);
+  std::vector<Tally> per_k(ks.size());
+  Tally all;
   for (int t = 0; t < trials; ++t) {
-    RigSpec spec = base;
-    spec.seed = first_seed + static_cast<std::uint64_t>(t);
-    spec.den_hartog_k = ks[static_cast<std::size_t>(t) % ks.size()];
-    run_trial(spec, tally);
+    add_trial(per_k[static_cast<std::size_t>(t) % ks.size()],
+              outcomes[static_cast<std::size_t>(t)]);
+    add_trial(all, outcomes[static_cast<std::size_t>(t)]);
   }
+  std::puts("");
+  std::puts(
+      "| K | trials | within 2/2/3/3 % k / b / F_fk / F_fs | worst \\|error\\| | 95 % intervals "
+      "covering the truth | mean 95 % half-width | residual above the truth's | largest "
+      "Cramer-Rao sd of F_fs | CPU s per fit, median / max |");
+  std::puts("|---|---|---|---|---|---|---|---|---|");
+  for (std::size_t i = 0; i < ks.size(); ++i)
+    if (per_k[i].trials > 0) std::puts(summary_row(fmt::format("{:.2g}", ks[i]), per_k[i]).c_str());
+  std::puts(summary_row("all", all).c_str());
   const char* names[4] = {"k", "b", "F_fk", "F_fs"};
   bool coverage_ok = true;
-  std::string summary = fmt::format("{} trials, {} outside the tolerances (2/2/3/3 %);",
-                                    tally.trials, tally.failures);
+  std::string summary =
+      fmt::format("{} trials, {} outside the tolerances (2/2/3/3 %);", all.trials, all.failures);
   for (int i = 0; i < 4; ++i) {
-    const double coverage = static_cast<double>(tally.covered[i]) / tally.trials;
+    const double coverage = static_cast<double>(all.covered[i]) / all.trials;
     coverage_ok = coverage_ok && coverage >= min_coverage;
-    summary += fmt::format(" {}: worst {:.3f} %, coverage {}/{}", names[i], 100.0 * tally.worst[i],
-                           tally.covered[i], tally.trials);
+    summary += fmt::format(" {}: coverage {}/{}", names[i], all.covered[i], all.trials);
   }
-  summary += fmt::format("; slowest fit {:.2f} s of CPU", tally.slowest_s);
-  summary += "; mean 95 % half-width classic / HAC:";
-  for (int i = 0; i < 4; ++i) {
-    summary += fmt::format(" {} {:.3f} / {:.3f} % (HAC coverage {}/{})", names[i],
-                           100.0 * tally.width_sum[i] / tally.trials,
-                           100.0 * tally.width_hac_sum[i] / tally.trials, tally.covered_hac[i],
-                           tally.trials);
-  }
+  summary += "; HAC coverage:";
+  for (int i = 0; i < 4; ++i)
+    summary += fmt::format(" {} {}/{}", names[i], all.covered_hac[i], all.trials);
   std::puts(summary.c_str());
-  return tally.failures == 0 && coverage_ok ? 0 : 1;
+  return all.failures == 0 && coverage_ok ? 0 : 1;
 }
+
+constexpr const char* kUsage =
+    "usage: stickslip_fit_validation [--trials N] [--first-seed S | --seeds S1,S2,...]\n"
+    "                                [--K K1,K2,...] [--duration S]\n"
+    "                                [--min-coverage C] [--travel] [--floor-noise A] [--jobs J]\n"
+    "       stickslip_fit_validation --write-rig FILE [--seed S] [--K K] [--duration S]\n"
+    "                                [--shift-samples N] [--ax-in-g] [--unit-header] [--no-ax]\n"
+    "                                [--travel] [--static-ratio R]\n"
+    "Trials: seed S+t (or the t-th of --seeds), K cycling through the list. One row per fit\n"
+    "(errors, 95 % intervals, the Cramer-Rao standard deviations from the Jacobian at the truth,\n"
+    "the residual RMS of the fit and of the truth), then a table per K and over all trials.\n"
+    "Exit status 1 when an estimate is outside its tolerance (k, b 2 %; F_fk, F_fs 3 %) or a\n"
+    "coverage is below C (default 0.9). --travel adds the travel channel x_r (noise 3e-5 m) to\n"
+    "the rig and the fit. --jobs J: J fits at once on threads (the CPU s are per fit).\n";
 
 }  // namespace
 
@@ -230,13 +358,17 @@ int main(int argc, char** argv) {
   std::vector<double> ks = {0.3, 0.6, 1.0, 1.5};
   int trials = 8;
   std::uint64_t first_seed = 1;
+  std::vector<std::uint64_t> seeds;
   double min_coverage = 0.9;
+  int jobs = 1;
   for (int i = 1; i < argc; ++i) {
     const bool has_value = i + 1 < argc;
     if (!std::strcmp(argv[i], "--trials") && has_value) {
       trials = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--first-seed") && has_value) {
       first_seed = std::strtoull(argv[++i], nullptr, 10);
+    } else if (!std::strcmp(argv[i], "--seeds") && has_value) {
+      for (double seed : parse_list(argv[++i])) seeds.push_back(static_cast<std::uint64_t>(seed));
     } else if (!std::strcmp(argv[i], "--seed") && has_value) {
       spec.seed = std::strtoull(argv[++i], nullptr, 10);
     } else if (!std::strcmp(argv[i], "--K") && has_value) {
@@ -248,6 +380,8 @@ int main(int argc, char** argv) {
       spec.static_ratio = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--floor-noise") && has_value) {
       spec.floor_noise_m_per_s2 = std::atof(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--jobs") && has_value) {
+      jobs = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--min-coverage") && has_value) {
       min_coverage = std::atof(argv[++i]);
     } else if (!std::strcmp(argv[i], "--write-rig") && has_value) {
@@ -262,19 +396,24 @@ int main(int argc, char** argv) {
       write.no_ax = true;
     } else if (!std::strcmp(argv[i], "--travel")) {
       spec.travel = true;
+    } else if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+      std::fputs(kUsage, stdout);
+      return 0;
     } else {
       std::fprintf(stderr, "stickslip_fit_validation: unknown or incomplete option '%s'\n",
                    argv[i]);
       return 2;
     }
   }
-  if (ks.empty() || trials < 1) {
-    std::fputs("stickslip_fit_validation: --K needs values and --trials >= 1\n", stderr);
+  if (ks.empty() || trials < 1 || jobs < 1) {
+    std::fputs("stickslip_fit_validation: --K needs values, --trials and --jobs >= 1\n", stderr);
     return 2;
   }
   try {
     if (rig_path != nullptr) return write_rig(rig_path, make_rig(spec, truth_for(spec)), write);
-    return run_trials(spec, ks, trials, first_seed, min_coverage);
+    if (seeds.empty())
+      for (int t = 0; t < trials; ++t) seeds.push_back(first_seed + static_cast<std::uint64_t>(t));
+    return run_trials(spec, ks, seeds, min_coverage, jobs);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "stickslip_fit_validation: %s\n", error.what());
     return 1;

@@ -77,6 +77,82 @@ LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<d
   return fit;
 }
 
+PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
+                             const std::vector<double>& start, double start_cost, double first_step,
+                             double last_step, int max_evaluations) {
+  PatternSearch out{start, start_cost, 0, 0};
+  const std::size_t count = start.size();
+  std::vector<double> residuals, columns;
+  if (!fit_residuals(problem, start.data(), residuals) ||
+      !fit_jacobian(problem, start.data(), box.lower, box.upper, box.step, residuals, columns)) {
+    return out;
+  }
+  out.evaluations = 1 + 2 * static_cast<int>(count);
+  // Axes and lengths: eigenvectors of s^2 (J'J)^-1 and the square roots of its eigenvalues. An
+  // unknown without influence (a zero column) is searched along its own axis with the
+  // differencing step.
+  const auto rows = static_cast<Eigen::Index>(residuals.size());
+  const auto n = static_cast<Eigen::Index>(count);
+  const Eigen::Map<const Eigen::MatrixXd> jacobian(columns.data(), rows, n);
+  const double variance = start_cost / static_cast<double>(residuals.size() - count);
+  Eigen::MatrixXd normal = jacobian.transpose() * jacobian;
+  for (Eigen::Index j = 0; j < n; ++j)
+    if (normal(j, j) == 0.0) normal(j, j) = variance / (box.step * box.step);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normal);
+  std::vector<std::vector<double>> axes;
+  for (Eigen::Index a = 0; a < n; ++a) {
+    const double curvature = eigen.eigenvalues()(a);
+    if (!(curvature > 0.0)) continue;
+    const double sd = std::sqrt(variance / curvature);
+    std::vector<double> axis(count);
+    for (Eigen::Index j = 0; j < n; ++j)
+      axis[static_cast<std::size_t>(j)] = sd * eigen.eigenvectors()(j, a);
+    axes.push_back(axis);
+  }
+  const auto cost_at = [&](const std::vector<double>& u) {
+    ++out.evaluations;
+    std::vector<double> r;
+    if (!fit_residuals(problem, u.data(), r)) return std::numeric_limits<double>::infinity();
+    double sum = 0.0;
+    for (double value : r) sum += value * value;
+    return sum;
+  };
+  const auto inside = [&](const std::vector<double>& u) {
+    for (std::size_t j = 0; j < count; ++j)
+      if (!(u[j] >= box.lower[j] && u[j] <= box.upper[j])) return false;
+    return true;
+  };
+  const auto along = [&](const std::vector<double>& axis, double length) {
+    std::vector<double> u = out.u;
+    for (std::size_t j = 0; j < count; ++j) u[j] += length * axis[j];
+    return u;
+  };
+  for (double step = first_step; step >= last_step && out.evaluations < max_evaluations;) {
+    bool moved = false;
+    for (const std::vector<double>& axis : axes) {
+      for (double sign : {1.0, -1.0}) {
+        double length = sign * step;
+        std::vector<double> u = along(axis, length);
+        if (!inside(u) || out.evaluations >= max_evaluations) continue;
+        double cost = cost_at(u);
+        // a success along an axis is tried again twice as far while it keeps lowering the cost
+        while (cost < out.cost) {
+          out.u = u;
+          out.cost = cost;
+          ++out.moves;
+          moved = true;
+          length *= 2.0;
+          u = along(axis, length);
+          if (!inside(u) || out.evaluations >= max_evaluations) break;
+          cost = cost_at(u);
+        }
+      }
+    }
+    if (!moved) step *= 0.5;
+  }
+  return out;
+}
+
 FitCovariance fit_covariance(const FitProblem& problem, const std::vector<double>& u,
                              const FitBox& box) {
   const std::size_t count = u.size();
@@ -87,7 +163,8 @@ FitCovariance fit_covariance(const FitProblem& problem, const std::vector<double
   out.correlation.assign(count, std::vector<double>(count, std::nan("")));
   std::vector<double> residuals, columns;
   if (!fit_residuals(problem, u.data(), residuals) ||
-      !fit_jacobian(problem, u.data(), box.lower, box.upper, box.step, residuals, columns)) {
+      !fit_jacobian(problem, u.data(), box.lower, box.upper, box.covariance_step, residuals,
+                    columns)) {
     return out;
   }
   const auto rows = static_cast<Eigen::Index>(residuals.size());

@@ -10,10 +10,19 @@
 
 namespace stickslip::host {
 
-// Box bounds on the unknowns u, and the finite-difference step in u.
+// Box bounds on the unknowns u, and the finite-difference steps in u.
 struct FitBox {
   std::vector<double> lower, upper;
+  // Levenberg-Marquardt's Jacobian: a secant over many treads of the staircase (pattern_search).
   double step = 1e-3;
+  // The intervals' Jacobian, the derivative of the smooth piece the fit ended on. A step of 1e-3
+  // moves dozens of events across samples; where a moved stick or break-away changes the motion
+  // for a long run of samples on both sides, the per-sample rule of fit_jacobian() cannot pick a
+  // smooth side and a column blows up: at K = 1.5 the F_fk interval of 3 of 12 validation fits
+  // came out 3-12 times narrower than the others' (0.005-0.020 % against 0.06 %) and missed the
+  // truth. At 1e-5 they agree with the rest (0.060-0.068 %); the differences still lie far above
+  // rounding (a_x to about 1e-15 m/s^2, so about 1e-10 against sensitivities of 0.01-1).
+  double covariance_step = 1e-5;
 };
 
 struct LocalFit {
@@ -27,6 +36,25 @@ struct LocalFit {
 // Starts at u0; a model run that configure() refuses is a step the trust region rejects.
 LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<double> u0,
                      int max_iterations);
+
+// A derivative-free descent on the exact cost from `start`, for what Levenberg-Marquardt cannot
+// see: a sample's a_x jumps where a stick or break-away crosses it, so near the minimum the cost
+// is a staircase of plateaus far narrower than the intervals (a move of 0.1-0.2 standard errors
+// in the parameters can change the residual RMS by 0.5-1 %), and the Jacobian of the smooth
+// pieces sees a flat tread. A compass search (Kolda, Lewis & Torczon, SIAM Review 45, 2003) along
+// the principal axes of the Gauss-Newton covariance at `start`: steps of `first_step` standard
+// errors along each axis both ways, a success repeated with the step doubled, no success halves the
+// step, down to `last_step` or `max_evaluations` model runs. Every point it accepts has a lower
+// cost.
+struct PatternSearch {
+  std::vector<double> u;
+  double cost = 0.0;
+  int evaluations = 0;
+  int moves = 0;  // accepted points
+};
+PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
+                             const std::vector<double>& start, double start_cost, double first_step,
+                             double last_step, int max_evaluations);
 
 struct FitCovariance {
   // Of fit_values(), in `order`; a parameter with no influence on the residuals has

@@ -3,8 +3,10 @@
 // Every model evaluation is the exact simulation of the whole recording (simulate_signal(), the
 // core's oscillator with the exact integrator, from rest); Ceres Solver's Levenberg-Marquardt
 // minimises the sum of squares, with the Jacobian by central finite differences that step over no
-// mode change (docs/IDENTIFICATION.md, "Fitting a seat", says why). Confidence intervals come from
-// the Gauss-Newton covariance s^2 (J'J)^-1 with the residual variance s^2 = SSR / (N - P).
+// mode change (docs/IDENTIFICATION.md, "Fitting a seat", says why); a derivative-free compass
+// search then descends the staircase that the stick and break-away samples make of the cost near
+// its minimum, which the Jacobian does not see. Confidence intervals come from the Gauss-Newton
+// covariance s^2 (J'J)^-1 with the residual variance s^2 = SSR / (N - P), at the final point.
 #pragma once
 
 #include <array>
@@ -72,7 +74,9 @@ struct FitResult {
   double stick_probability_measured = 0.0, stick_probability_model = 0.0;
   double noise_m_per_s2 = 0.0;  // a_x's white-noise RMS estimated from the data
   int iterations = 0;
-  int starts = 0;  // model runs of the global stage
+  int starts = 0;              // model runs of the global stage
+  int local_runs = 0;          // local solver runs (Levenberg-Marquardt and polish)
+  int search_evaluations = 0;  // model runs of the derivative-free descent (fit_solver.hpp)
   double seconds = 0.0;
   bool converged = false;
   std::string solver_message;             // Ceres' reason for stopping
@@ -87,5 +91,17 @@ struct FitResult {
 // UsageError for a request that makes no sense (the mass fitted, a parameter the model does not
 // have). A fit that stops without converging returns converged = false.
 FitResult fit_seat(const RigRecording& rig, const FitRequest& request);
+
+// The fit's cost and Gauss-Newton intervals at given parameters, without fitting: at the true
+// parameters of a synthetic rig the residual RMS is the floor any fit should reach, and
+// ci95 * noise / rms_residual is 1.96 times the Cramer-Rao bound of each fitted parameter (the
+// Fisher information J'J / noise^2 with the Jacobian at the truth, white Gaussian noise).
+struct FitProbe {
+  std::array<double, kFitParameterCount> ci95{};  // s^2 (J'J)^-1, s^2 = SSR / (N - P)
+  double rms_residual_m_per_s2 = 0.0;             // a_x
+  double rms_travel_residual_m = 0.0;             // x_r (0 without travel)
+};
+FitProbe probe_fit(const RigRecording& rig, const FitRequest& request,
+                   const OscillatorParams& point);
 
 }  // namespace stickslip::host

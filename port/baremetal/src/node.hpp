@@ -15,6 +15,8 @@ extern "C" {
 // Configures the model (the reference seat, stick-slip, F_fk = F_fs = 45 N, dt = 1 ms, exact
 // integrator) and the node, and resets them. Returns 0, or the configure() Status as a number.
 int stickslip_node_start();
+// The seat's step for one sample (the node calls it; the step budget is measured from it).
+// Declared in node.cpp (its argument is the build's scalar).
 // The CAN receive callback: checks the frame and, for every sample it brings, steps the seat,
 // calls board_can_send() with each output frame, then board_node_sampled().
 void stickslip_node_on_frame(const stickslip::can::Frame* frame);

@@ -77,6 +77,7 @@ class EcuNode {
     last_word_ = 0;
     first_sample_ = last_sample_ = 0;
     last_counter_ = 0;
+    output_phase_ = stats_phase_ = 0;
     for (std::uint8_t& alive : alive_) alive = 0;
     return Status::ok;
   }
@@ -87,11 +88,13 @@ class EcuNode {
   // seat.
   template <typename Sink>
   FrameVerdict on_frame(const Frame& frame, std::uint64_t now_ns, Sink& sink) noexcept {
-    const CheckResult result = checker_.check(frame, now_ns);
+    // Members, not locals: the receive interrupt's stack holds only the seat's step (the
+    // Cortex-M0+ budget is 256 bytes).
+    result_ = checker_.check(frame, now_ns);
     if (frame.id == kSeatInput.id && !(frame.flags & kExtendedId)) ++input_frames_;
-    const bool accepted = result.verdict == FrameVerdict::accepted;
-    if (!accepted && !result.hold) return result.verdict;
-    const std::uint16_t counter = result.payload.sample_counter;
+    const bool accepted = result_.verdict == FrameVerdict::accepted;
+    if (!accepted && !result_.hold) return result_.verdict;
+    const std::uint16_t counter = result_.payload.sample_counter;
     // The counter step as the checker took it (forward, or back for a restarted sender).
     const std::int64_t sample =
         samples_ == 0
@@ -100,15 +103,15 @@ class EcuNode {
                   static_cast<std::int16_t>(static_cast<std::uint16_t>(counter - last_counter_));
     last_counter_ = counter;
     if (samples_ > 0) {
-      for (unsigned i = 0; i < result.lost_samples; ++i)
-        emit(last_word_, true, false, sample - result.lost_samples + i, sink);
+      for (unsigned i = 0; i < result_.lost_samples; ++i)
+        emit(last_word_, true, false, sample - result_.lost_samples + i, sink);
     }
     if (accepted) {
-      emit(result.payload.words[0], false, result.resync, sample, sink);
+      emit(result_.payload.words[0], false, result_.resync, sample, sink);
     } else if (samples_ > 0) {
       emit(last_word_, true, false, sample, sink);
     }
-    return result.verdict;
+    return result_.verdict;
   }
 
   // Call when the bus has been quiet (a receive timed out): counts bus silence.
@@ -131,32 +134,37 @@ class EcuNode {
  private:
   template <typename Sink>
   void emit(std::uint16_t word, bool held, bool resync, std::int64_t sample, Sink& sink) noexcept {
-    NodeSample s;
-    s.index = samples_;
-    s.sample = sample;
-    s.a_u_word = word;
-    s.held = held;
-    s.resync = resync;
+    sample_.index = samples_;
+    sample_.sample = sample;
+    sample_.a_u_word = word;
+    sample_.held = held;
+    sample_.resync = resync;
     if (samples_ == 0) first_sample_ = sample;
     last_sample_ = sample;
-    const SeatWords out = samples_ == 0 ? seat_.start(word) : seat_.step(word);
+    words_ = samples_ == 0 ? seat_.start(word) : seat_.step(word);
     ++samples_;
     last_word_ = word;
-    publish(out, s, sink);
-    sink.sampled(s);
+    publish(sink);
+    sink.sampled(sample_);
   }
 
   template <typename Sink>
-  void publish(const SeatWords& out, const NodeSample& s, Sink& sink) noexcept {
-    const auto counter = static_cast<std::uint16_t>(s.index & 0xFFFFu);
-    const auto state = static_cast<std::uint8_t>((out.stuck ? kStuck : 0) |
-                                                 (s.held ? kHeld : 0) | (s.resync ? kResync : 0));
+  void publish(Sink& sink) noexcept {
+    const auto counter = static_cast<std::uint16_t>(sample_.index & 0xFFFFu);
+    const auto state = static_cast<std::uint8_t>(
+        (words_.stuck ? kStuck : 0) | (sample_.held ? kHeld : 0) | (sample_.resync ? kResync : 0));
     const OutputSet set = params_.outputs;
-    if (s.index % params_.output_every == 0) {
-      send(kSeatMotion, counter, 0, state, out.a_x, out.x_r, sink);
-      if (set != OutputSet::reduced) send(kSeatForce, counter, 1, state, out.v_r, out.f_f, sink);
+    // index % cycle == 0 as a phase that wraps (no 64-bit division on a 32-bit core).
+    const bool output_due = output_phase_ == 0;
+    if (++output_phase_ == params_.output_every) output_phase_ = 0;
+    const bool stats_due = stats_phase_ == 0;
+    if (++stats_phase_ == params_.stats_every) stats_phase_ = 0;
+    if (output_due) {
+      send(kSeatMotion, counter, 0, state, words_.a_x, words_.x_r, sink);
+      if (set != OutputSet::reduced)
+        send(kSeatForce, counter, 1, state, words_.v_r, words_.f_f, sink);
     }
-    if (set == OutputSet::motion || s.index % params_.stats_every != 0) return;
+    if (set == OutputSet::motion || !stats_due) return;
     // The seat's statistics as of its last completed window; not available before.
     const StatsWords stats = seat_.statistics();
     send(kSeatStats, counter, 2, 0, stats.transmissibility, stats.stick_probability, sink);
@@ -190,13 +198,17 @@ class EcuNode {
   EcuNodeParams params_;
   ReceiveChecker checker_;
   Frame outgoing_;
+  CheckResult result_;  // of the frame being handled
+  NodeSample sample_;   // the sample being published
+  SeatWords words_;     // its outputs
   std::uint64_t samples_ = 0;
   std::uint64_t input_frames_ = 0;
   std::int64_t first_sample_ = 0;
   std::int64_t last_sample_ = 0;
   std::uint16_t last_word_ = 0;     // a_u of the last sample (what a held sample repeats)
   std::uint16_t last_counter_ = 0;  // of the last frame that brought a sample (or a hold)
-  std::uint8_t alive_[4] = {0, 0, 0, 0};  // SeatMotion, SeatForce, SeatStats, SeatScene
+  unsigned output_phase_ = 0, stats_phase_ = 0;  // samples since the last output/stats cycle
+  std::uint8_t alive_[4] = {0, 0, 0, 0};         // SeatMotion, SeatForce, SeatStats, SeatScene
 };
 
 }  // namespace stickslip::can

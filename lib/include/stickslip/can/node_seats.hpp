@@ -15,6 +15,7 @@
 #include "stickslip/can/codec.hpp"
 #include "stickslip/can/ecu_node.hpp"
 #include "stickslip/core/params.hpp"
+#include "stickslip/core/scalar.hpp"
 #include "stickslip/core/status.hpp"
 #include "stickslip/models/oscillator.hpp"
 #include "stickslip/models/scaled_oscillator.hpp"
@@ -40,16 +41,23 @@ class OscillatorSeat {
     return words(last_);
   }
   SeatWords step(std::uint16_t a_u_word) noexcept {
-    oscillator_.step(input(a_u_word), last_);  // in place: no copy on an interrupt's stack
+    advance(input(a_u_word));
     return words(last_);
   }
+  // The parts of step(), for a caller that puts the model's step in a function of its own (the
+  // firmware: its step budget is measured from there): the input, the step, the words.
+  STICKSLIP_INLINE_STEP void advance(T a_u) noexcept {
+    oscillator_.step(a_u, last_);  // in place: no copy on an interrupt's stack
+  }
   StatsWords statistics() const noexcept { return {}; }
+
+  static T input(std::uint16_t word) noexcept { return physical<T>(kSeatInput.signals[0], word); }
+  SeatWords last_words() const noexcept { return words(last_); }
 
   const StepOutput<T>& last() const noexcept { return last_; }
   const Oscillator<T, Law>& oscillator() const noexcept { return oscillator_; }
 
  private:
-  static T input(std::uint16_t word) noexcept { return physical<T>(kSeatInput.signals[0], word); }
   static SeatWords words(const StepOutput<T>& out) noexcept {
     SeatWords w;
     w.a_x = quantise(kSeatMotion.signals[0], out.a_x_m_per_s2);
@@ -103,10 +111,18 @@ class ScaledSeat {
     return words(last_);
   }
   SeatWords step(std::uint16_t a_u_word) noexcept {
-    model_.step(input(a_u_word), last_);  // in place: no copy on an interrupt's stack
+    advance(input(a_u_word));
     return words(last_);
   }
+  // The parts of step(), for a caller that puts the model's step in a function of its own (the
+  // firmware: its step budget is measured from there): the input, the step, the words.
+  STICKSLIP_INLINE_STEP void advance(T a_u_scaled) noexcept {
+    model_.step(a_u_scaled, last_);  // in place: no copy on an interrupt's stack
+  }
   StatsWords statistics() const noexcept { return {}; }
+
+  T input(std::uint16_t word) const noexcept { return input_.to_scalar(word_as_signed(word)); }
+  SeatWords last_words() const noexcept { return words(last_); }
 
   const StepOutput<T>& last() const noexcept { return last_; }
   const ScaledOscillator<T, Law>& model() const noexcept { return model_; }
@@ -114,7 +130,6 @@ class ScaledSeat {
  private:
   static constexpr std::int32_t kSignedLimit = kSignedMax;
 
-  T input(std::uint16_t word) const noexcept { return input_.to_scalar(word_as_signed(word)); }
   // Rounded to nearest as quantise() does; beyond +-32767 clipped and flagged.
   static Quantised word(const CountScale<T>& scale, T value) noexcept {
     const std::int32_t count = scale.to_count(value, kSignedLimit + 1);

@@ -9,8 +9,8 @@
 # STICKSLIP: the host `stickslip` command; REPLAY_DIR: holds stickslip_node_replay_fixed and
 # _float (host build); CROSS_ROOT: holds cortex-m0plus/ and cortex-m4f/ build trees; CSV: the
 # recording (default: 10 s of the lorry scene, generated). The candump log is
-# `stickslip replay --output-log` of the CSV (SeatInput frames with E2E fields, and the host
-# node's own outputs, which the firmware counts and ignores). Prints, per target, the frames sent
+# `stickslip replay --output-log` of the CSV: its SeatInput frames (E2E fields) are fed to the
+# firmware, its host node's SeatMotion/SeatForce frames are the reference for the float build. Prints, per target, the frames sent
 # and compared, the mismatching frames, whether the records are identical, and the instructions
 # per received frame (mean, percentiles as the upper edge of their 100-instruction bucket, and
 # max, counted by QEMU with -icount shift=0) and the deepest stack the CAN receive interrupt
@@ -44,9 +44,12 @@ with open(sys.argv[1]) as log, open(sys.argv[2], "wb") as fed, open(sys.argv[3],
         if len(m.group(1)) > 3 or len(data) > 8:
             sys.exit(f"{sys.argv[1]}:{number}: extended id or CAN FD frame: not in this log")
         record = struct.pack("<IBBxx", ident, len(data), 0) + data.ljust(8, b"\0")
-        fed.write(record)
+        # The node's controller filters on SeatInput: other nodes' outputs are not delivered
+        # (the node would count them as ignored_output), so every interrupt is one input frame.
         if ident in outputs:
             sent.write(record)
+        else:
+            fed.write(record)
 PY
 
 status=0

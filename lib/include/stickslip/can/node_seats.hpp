@@ -51,19 +51,36 @@ class OscillatorSeat {
   }
   StatsWords statistics() const noexcept { return {}; }
 
-  static T input(std::uint16_t word) noexcept { return physical<T>(kSeatInput.signals[0], word); }
+  // Exact: a_u is the word times 2^-10 (a power of two: a multiply, no ldexp call).
+  static T input(std::uint16_t word) noexcept {
+    return T(word_as_signed(word)) * (T(1) / T(1u << kSeatInput.signals[0].fraction_bits));
+  }
   SeatWords last_words() const noexcept { return words(last_); }
 
   const StepOutput<T>& last() const noexcept { return last_; }
   const Oscillator<T, Law>& oscillator() const noexcept { return oscillator_; }
 
  private:
+  // quantise() (codec.hpp) for a signed signal, with the scale a compile-time power of two: the
+  // same word and saturation flag (the scaling is exact either way), without its ldexp calls.
+  static_assert(kSeatMotion.signals[0].is_signed && kSeatMotion.signals[1].is_signed &&
+                    kSeatForce.signals[0].is_signed && kSeatForce.signals[1].is_signed,
+                "word() encodes signed signals");
+  template <int kFractionBits>
+  static Quantised word(T value) noexcept {
+    if (value != value) return {signed_word(kSignedNotAvailable), false};
+    const T scaled = value * T(1u << kFractionBits);  // exact
+    const T limit = T(kSignedMax) + T(0.5);
+    if (scaled >= limit) return {signed_word(kSignedMax), true};
+    if (scaled <= -limit) return {signed_word(-kSignedMax), true};
+    return {signed_word(static_cast<std::int16_t>(std::round(scaled))), false};
+  }
   static SeatWords words(const StepOutput<T>& out) noexcept {
     SeatWords w;
-    w.a_x = quantise(kSeatMotion.signals[0], out.a_x_m_per_s2);
-    w.x_r = quantise(kSeatMotion.signals[1], out.x_r_m);
-    w.v_r = quantise(kSeatForce.signals[0], out.v_r_m_per_s);
-    w.f_f = quantise(kSeatForce.signals[1], out.friction_n);
+    w.a_x = word<kSeatMotion.signals[0].fraction_bits>(out.a_x_m_per_s2);
+    w.x_r = word<kSeatMotion.signals[1].fraction_bits>(out.x_r_m);
+    w.v_r = word<kSeatForce.signals[0].fraction_bits>(out.v_r_m_per_s);
+    w.f_f = word<kSeatForce.signals[1].fraction_bits>(out.friction_n);
     w.stuck = out.stuck;
     return w;
   }

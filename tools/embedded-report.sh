@@ -170,11 +170,12 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
     w(f"| {preset} | {flash} B | {sections.get('.data', 0)} B | {sections.get('.bss', 0)} B | "
       f"{step['code_bytes']} B | {configure_only} B | {seat} B |")
 w("")
-w("*Step code*: every function reachable from the CAN receive callback (the callback with the "
-  "inlined common path of `step()`, the out-of-line event search, the fixed-point kernels, the "
-  "conversions of the CAN signal, the compiler's helpers), from the disassembly "
-  "(`tools/elf-callgraph.py`). *Configure code*: "
-  "what `stickslip_node_start()` reaches besides that: validation, the matrix exponential in "
+w("*Step code*: every function reachable from `stickslip_seat_step`, the seat's step that the "
+  "ECU node calls for each sample (the inlined common path of `step()`, the out-of-line event "
+  "search, the fixed-point kernels, the compiler's helpers), from the disassembly "
+  "(`tools/elf-callgraph.py`); the node around it (receive checks, word conversions, output "
+  "frames) is measured below, \"The ECU node around the step\". *Configure code*: "
+  "what `stickslip_node_start()` reaches besides the step: validation, the matrix exponential in "
   "double (software floating point on both targets: the M4F's FPU is single precision), the "
   "messages. The model object (`Oscillator`: coefficients for 17 dyadic block sizes and the "
   "state) is statically allocated; there is no heap.")
@@ -214,10 +215,11 @@ for line in open(f"{work}/qemu.txt"):
 for preset in ("cortex-m0plus", "cortex-m4f"):
     w(f"| {preset} | {graphs[preset][0]['stack_bytes']} B | {graphs[preset][2]['stack_bytes']} B | {qemu[preset]['callback_stack_bytes']} B |")
 w("")
-w("The static figure sums the frames (push, vpush and `sub sp`) along the deepest call chain "
-  "from `stickslip_node_on_frame`; QEMU's figure is the deepest word written below the "
+w("The static figures sum the frames (push, vpush and `sub sp`) along the deepest call chain "
+  "from `stickslip_seat_step` (the step) and from `stickslip_node_on_frame` (the node's receive "
+  "callback with the step); QEMU's figure is the deepest word written below the "
   "interrupt handler's caller on a painted stack (it includes `CAN0_IRQHandler`'s own frame; "
-  "its 80-byte `can::Frame` buffer is static). Target for the Cortex-M0+: <= 256 B: "
+  "its 80-byte `can::Frame` buffer is static). Target for the Cortex-M0+'s step: <= 256 B: "
   f"**{'met' if graphs['cortex-m0plus'][0]['stack_bytes'] <= 256 else 'missed'}**.")
 w("")
 for preset in ("cortex-m0plus", "cortex-m4f"):
@@ -236,7 +238,7 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
     w(f"The compiler's `-fstack-usage` for the same functions ({preset}):")
     w("")
     w("```")
-    keys = ["stickslip_node_on_frame", "step_sticking", "::slip", "advance_block", "apply_step_map",
+    keys = ["stickslip_node_on_frame", "stickslip_seat_step", "step_sticking", "::slip", "advance_block", "apply_step_map",
             "multiply_raw", "first_crossing", "solve_falling", "whole_step_slips",
             "relative_acceleration", "seat_acceleration", "write_output"]
     seen = set()

@@ -53,7 +53,7 @@ for preset in cortex-m4f cortex-m0plus; do
   elf=build/$preset/port/baremetal/stickslip_firmware.elf
   arm-none-eabi-size -A -d "$elf" >"$work/$preset.size"
   arm-none-eabi-nm -S -C "$elf" >"$work/$preset.nm"
-  python3 tools/elf-callgraph.py "$elf" stickslip_node_on_frame stickslip_node_start \
+  python3 tools/elf-callgraph.py "$elf" stickslip_seat_step stickslip_node_start stickslip_node_on_frame \
     >"$work/$preset.callgraph.json"
   find "build/$preset" -name '*.su' -exec cat {} + >"$work/$preset.su"
 done
@@ -85,10 +85,15 @@ w("Builds: `cmake --preset cortex-m4f && cmake --build --preset cortex-m4f` (flo
   "`cmake --preset cortex-m0plus && cmake --build --preset cortex-m0plus` (Q7.24 fixed point "
   "on int32 in scene units, no FPU), both `-Os -fno-exceptions -fno-rtti`, toolchain file "
   "`cmake/toolchains/arm-none-eabi.cmake`. The ELF is the firmware example of `port/baremetal/`: "
-  "a CAN receive callback (`stickslip_node_on_frame`) decodes a_u, steps the reference seat "
-  "(F_fk = F_fs = 45 N, exact integrator, dt = 1 ms, declared ranges |a_u| <= 32.768 m/s^2 (the "
-  "int16 mm/s^2 signal) and |x_r| <= 0.1 m) and sends a_x: `Oscillator<float, CoulombStickSlip>` "
-  "on the M4F, `ScaledOscillator<Fixed32, CoulombStickSlip>` on the M0+ (the same oscillator "
+  "a CAN receive callback (`stickslip_node_on_frame`) runs the ECU node of lib/ "
+  "(`lib/include/stickslip/can/ecu_node.hpp`, the node the host's `ecu` and `replay` run): it "
+  "checks each SeatInput frame of `docs/can/stickslip.dbc` (id 0x100: E2E CRC-8, alive and "
+  "sample counters, lost samples held), steps the reference seat "
+  "(F_fk = F_fs = 45 N, exact integrator, dt = 1 ms, declared ranges |a_u| <= 32.768 m/s^2 and "
+  "|x_r| <= 0.1 m) through `stickslip_seat_step` and sends SeatMotion (0x180: a_x, x_r) and "
+  "SeatForce (0x181: v_r, f_f) with their E2E fields and the stuck/held/resync/saturated flags "
+  "(`--outputs motion`: the firmware keeps no running statistics, so no SeatStats/SeatScene): "
+  "`Oscillator<float, CoulombStickSlip>` on the M4F, `ScaledOscillator<Fixed32, CoulombStickSlip>` on the M0+ (the same oscillator "
   "source on the scene in units of dt, m and a length L chosen from the ranges, "
   "`lib/include/stickslip/models/scaled_oscillator.hpp`). CTest (label `embedded`) builds both presets and checks "
   "that no malloc/free/operator new/delete/__cxa_* symbol is in the ELFs "
@@ -153,7 +158,7 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
             sections[parts[0]] = int(parts[1])
     graph = load(f"{work}/{preset}.callgraph.json")
     graphs[preset] = graph
-    step, start = graph[0], graph[1]
+    step, start = graph[0], graph[1]  # the seat's step; configure (graph[2]: the whole callback)
     step_names = {f["name"] for f in step["functions"]}
     configure_only = sum(f["bytes"] for f in start["functions"] if f["name"] not in step_names)
     seat = 0
@@ -165,11 +170,12 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
     w(f"| {preset} | {flash} B | {sections.get('.data', 0)} B | {sections.get('.bss', 0)} B | "
       f"{step['code_bytes']} B | {configure_only} B | {seat} B |")
 w("")
-w("*Step code*: every function reachable from the CAN receive callback (the callback with the "
-  "inlined common path of `step()`, the out-of-line event search, the fixed-point kernels, the "
-  "conversions of the CAN signal, the compiler's helpers), from the disassembly "
-  "(`tools/elf-callgraph.py`). *Configure code*: "
-  "what `stickslip_node_start()` reaches besides that: validation, the matrix exponential in "
+w("*Step code*: every function reachable from `stickslip_seat_step`, the seat's step that the "
+  "ECU node calls for each sample (the inlined common path of `step()`, the out-of-line event "
+  "search, the fixed-point kernels, the compiler's helpers), from the disassembly "
+  "(`tools/elf-callgraph.py`); the node around it (receive checks, word conversions, output "
+  "frames) is measured below, \"The ECU node around the step\". *Configure code*: "
+  "what `stickslip_node_start()` reaches besides the step: validation, the matrix exponential in "
   "double (software floating point on both targets: the M4F's FPU is single precision), the "
   "messages. The model object (`Oscillator`: coefficients for 17 dyadic block sizes and the "
   "state) is statically allocated; there is no heap.")
@@ -198,21 +204,22 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
 # Stack.
 w("## Worst-case stack of the step")
 w("")
-w("| build | deepest chain from the callback (disassembly) | reached under QEMU on the 120 s lorry |")
-w("|---|---|---|")
+w("| build | deepest chain from the seat's step (disassembly) | from the whole receive callback, node included (disassembly) | reached under QEMU on the 120 s lorry (whole callback) |")
+w("|---|---|---|---|")
 qemu = {}
 for line in open(f"{work}/qemu.txt"):
     parts = line.split()
     fields = dict(p.split("=", 1) for p in parts[3:] if "=" in p)
-    fields["verdict"] = parts[4] if len(parts) > 4 else "?"
+    fields["verdict"] = fields.get("frames_verdict", "?")
     qemu[parts[0]] = fields
 for preset in ("cortex-m0plus", "cortex-m4f"):
-    w(f"| {preset} | {graphs[preset][0]['stack_bytes']} B | {qemu[preset]['callback_stack_bytes']} B |")
+    w(f"| {preset} | {graphs[preset][0]['stack_bytes']} B | {graphs[preset][2]['stack_bytes']} B | {qemu[preset]['callback_stack_bytes']} B |")
 w("")
-w("The static figure sums the frames (push, vpush and `sub sp`) along the deepest call chain "
-  "from `stickslip_node_on_frame`; QEMU's figure is the deepest word written below the "
+w("The static figures sum the frames (push, vpush and `sub sp`) along the deepest call chain "
+  "from `stickslip_seat_step` (the step) and from `stickslip_node_on_frame` (the node's receive "
+  "callback with the step); QEMU's figure is the deepest word written below the "
   "interrupt handler's caller on a painted stack (it includes `CAN0_IRQHandler`'s own frame; "
-  "its 80-byte `can::Frame` buffer is static). Target for the Cortex-M0+: <= 256 B: "
+  "its 80-byte `can::Frame` buffer is static). Target for the Cortex-M0+'s step: <= 256 B: "
   f"**{'met' if graphs['cortex-m0plus'][0]['stack_bytes'] <= 256 else 'missed'}**.")
 w("")
 for preset in ("cortex-m0plus", "cortex-m4f"):
@@ -231,7 +238,7 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
     w(f"The compiler's `-fstack-usage` for the same functions ({preset}):")
     w("")
     w("```")
-    keys = ["stickslip_node_on_frame", "step_sticking", "::slip", "advance_block", "apply_step_map",
+    keys = ["stickslip_node_on_frame", "stickslip_seat_step", "step_sticking", "::slip", "advance_block", "apply_step_map",
             "multiply_raw", "first_crossing", "solve_falling", "whole_step_slips",
             "relative_acceleration", "seat_acceleration", "write_output"]
     seen = set()
@@ -261,12 +268,15 @@ for preset, machine in (("cortex-m0plus", "mps2-an385 (Cortex-M3 running the ARM
     w(f"| {preset} | {machine} | {q['frames']} | {q['instructions_per_frame_mean']} | "
       f"{q['instructions_per_frame_p50']} | {q['instructions_per_frame_p99']} | "
       f"{q['instructions_per_frame_p999']} | {q['instructions_per_frame_max']} | "
-      f"{q['verdict']} byte for byte |")
+      f"frames {q['verdict']} byte for byte ({q['frames_sent']} sent, {q['frames_mismatched']} "
+      f"mismatched), step records {q['records']}"
+      + (f", frames {q['frames_against_ecu_loopback']} to `stickslip replay`'s node" if "frames_against_ecu_loopback" in q else "")
+      + " |")
 w("")
 w("Counted by QEMU with `-icount shift=0` (one instruction = 1 ns of virtual time) on SysTick "
   "around each call of the CAN receive interrupt (percentiles: upper edges of 100-instruction "
   "buckets), so a frame's count holds the driver hand-off, "
-  "the payload decode, the step and the reply frame (checked against an instruction trace, "
+  "the receive check (CRC, counters), the step and the two reply frames (checked against an instruction trace, "
   "`-singlestep -d exec`: equal to within one SysTick tick of 40 instructions). The Cortex-M0+ "
   "build's instruction set is a subset of the M3's, so the counts are its own instructions; "
   "cycles on a real M0+ add a second cycle to loads, stores and taken branches, plus flash wait "
@@ -274,9 +284,31 @@ w("Counted by QEMU with `-icount shift=0` (one instruction = 1 ns of virtual tim
   "The slow frames are steps with events (about 1 % of the steps here): the event search bisects "
   "the step on its dyadic grid (to dt/2^16 in float, dt/16 in Q7.24) and finishes it in dyadic "
   "blocks, each block a step map. The "
-  "node's records of every step (x_r, v_r, a_x, f_f, stuck time and fraction as raw bits) from "
-  "QEMU and from the same `node.cpp` built for the host are compared with `cmp` "
-  "(`tools/qemu-compare.sh`).")
+  "input is the candump log `stickslip replay --output-log` writes for the recording: its "
+  "SeatInput frames, one per interrupt (the controller's filter passes SeatInput only). The "
+  "frames the firmware sends, and its records of every frame's step (x_r, v_r, a_x, f_f, stuck "
+  "time and fraction as raw bits), from QEMU and from the same `node.cpp` built for the host are "
+  "compared frame by frame and with `cmp`; the float build's frames also with the frames "
+  "`stickslip replay --scalar float --outputs motion` (the host `ecu` node over the loopback bus) "
+  "wrote to the same log (`tools/qemu-compare.sh`).")
+w("")
+w("## The ECU node around the step")
+w("")
+w("| build | whole receive callback: code | its deepest stack | the seat's step: code | its stack | the node adds |")
+w("|---|---|---|---|---|---|")
+for preset in ("cortex-m0plus", "cortex-m4f"):
+    whole, step = graphs[preset][2], graphs[preset][0]
+    w(f"| {preset} | {whole['code_bytes']} B | {whole['stack_bytes']} B | {step['code_bytes']} B | "
+      f"{step['stack_bytes']} B | {whole['code_bytes'] - step['code_bytes']} B, "
+      f"{whole['stack_bytes'] - step['stack_bytes']} B of stack |")
+w("")
+w("The budgets (step code <= 4096 B, stack <= 256 B on the Cortex-M0+) are the seat's step's, "
+  "measured from `stickslip_seat_step`. The node around it is the receive checker "
+  "(`can/receive_checker.hpp`: classification, CRC-8 SAE J1850 bit by bit, alive and sample "
+  "counters, the gap policy, 19 64-bit fault counters), the sender's sample number (64-bit), "
+  "the word conversions of a_u and the four outputs, and the encoding of SeatMotion and "
+  "SeatForce; its stack is the callback's and the node's frames above the step "
+  "(`tools/check-embedded.sh` prints both figures).")
 w("")
 w("## Why two fixed-point formats")
 w("")

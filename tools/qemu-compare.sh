@@ -1,14 +1,20 @@
 #!/usr/bin/env bash
-# Runs the firmware's node on QEMU (Cortex-M0+ build, fixed point, on mps2-an385; Cortex-M4F
-# build, float, on mps2-an386) with a recording fed through the CAN receive callback, and compares
-# every step's outputs byte for byte with the same node built for the host.
+# Runs the firmware's ECU node on QEMU (Cortex-M0+ build, Q7.24 fixed point, on mps2-an385;
+# Cortex-M4F build, float, on mps2-an386) on the frames of a candump log, and compares the CAN
+# frames it sends (SeatMotion/SeatForce of docs/can/stickslip.dbc) byte for byte with the same
+# lib/ node built for the host; the float frames also with `stickslip replay`'s node over the
+# loopback bus (the `ecu` node) for the same log. The step records (the model's outputs, bit for
+# bit) are compared too.
 #   tools/qemu-compare.sh STICKSLIP REPLAY_DIR CROSS_ROOT WORK_DIR [CSV]
 # STICKSLIP: the host `stickslip` command; REPLAY_DIR: holds stickslip_node_replay_fixed and
 # _float (host build); CROSS_ROOT: holds cortex-m0plus/ and cortex-m4f/ build trees; CSV: the
-# recording (default: 10 s of the lorry scene, generated). Prints, per target, the frames, whether
-# they are identical, and the instructions per frame (mean, percentiles as the upper edge of
-# their 100-instruction bucket, and max, counted by QEMU with
-# -icount shift=0) and the deepest stack the CAN receive interrupt reached (painted stack). Exit status 1 on any difference.
+# recording (default: 10 s of the lorry scene, generated). The candump log is
+# `stickslip replay --output-log` of the CSV: its SeatInput frames (E2E fields) are fed to the
+# firmware, its host node's SeatMotion/SeatForce frames are the reference for the float build. Prints, per target, the frames sent
+# and compared, the mismatching frames, whether the records are identical, and the instructions
+# per received frame (mean, percentiles as the upper edge of their 100-instruction bucket, and
+# max, counted by QEMU with -icount shift=0) and the deepest stack the CAN receive interrupt
+# reached (painted stack). Exit status 1 on any difference.
 set -euo pipefail
 
 stickslip=$(realpath "$1") replay_dir=$(realpath "$2") cross_root=$(realpath "$3") work=$4
@@ -19,13 +25,32 @@ if [ -z "$csv" ]; then
   csv=$work/recording.csv
   "$stickslip" generate --kind lorry --rms 0.35 --duration 10 --dt 0.001 --seed 1 --output "$csv" >/dev/null
 fi
-# The CAN payload: int16 a_u in mm/s^2, little endian (node.hpp).
-LC_ALL=C awk -F, 'NR > 1 && NF >= 2 {
-    v = $2 * 1000; r = v < 0 ? -int(-v + 0.5) : int(v + 0.5)
-    if (r > 32767) r = 32767; if (r < -32767) r = -32767
-    if (r < 0) r += 65536
-    printf "%c%c", r % 256, int(r / 256)
-  }' "$csv" >"$work/stickslip-input.bin"
+# The firmware's seat and node (port/baremetal/src/node.cpp), float: the M4F build's scalar.
+"$stickslip" replay --input "$csv" --bus loopback --output "$work/ecu.csv" \
+  --output-log "$work/input.log" --model stick-slip --ffk 45 --ffs 45 --integrator exact \
+  --scalar float --outputs motion >"$work/ecu.json"
+
+# candump lines "(time) iface ID#DATA" -> 16-byte frame records (port/baremetal/src/replay.hpp):
+# every frame to feed the node, and the ecu node's own output frames to compare with.
+python3 - "$work/input.log" "$work/stickslip-input.bin" "$work/ecu-frames.bin" <<'PY'
+import re, struct, sys
+outputs = {0x180, 0x181, 0x182, 0x183}
+with open(sys.argv[1]) as log, open(sys.argv[2], "wb") as fed, open(sys.argv[3], "wb") as sent:
+    for number, line in enumerate(log, 1):
+        m = re.match(r"\s*\(\S+\)\s+\S+\s+([0-9A-Fa-f]+)#([0-9A-Fa-f]*)\s*$", line)
+        if not m:
+            sys.exit(f"{sys.argv[1]}:{number}: not a candump data frame: {line.strip()}")
+        ident, data = int(m.group(1), 16), bytes.fromhex(m.group(2))
+        if len(m.group(1)) > 3 or len(data) > 8:
+            sys.exit(f"{sys.argv[1]}:{number}: extended id or CAN FD frame: not in this log")
+        record = struct.pack("<IBBxx", ident, len(data), 0) + data.ljust(8, b"\0")
+        # The node's controller filters on SeatInput: other nodes' outputs are not delivered
+        # (the node would count them as ignored_output), so every interrupt is one input frame.
+        if ident in outputs:
+            sent.write(record)
+        else:
+            fed.write(record)
+PY
 
 status=0
 run_target() {  # preset machine scalar
@@ -36,8 +61,9 @@ run_target() {  # preset machine scalar
   (cd "$dir" && timeout 600 qemu-system-arm -M "$machine" -nographic -monitor none -serial none \
       -semihosting-config enable=on,target=native -icount shift=0 \
       -kernel "$cross_root/$preset/port/baremetal/stickslip_firmware_qemu.elf") >"$dir/qemu.txt" 2>&1
-  "$replay_dir/stickslip_node_replay_$scalar" "$dir/stickslip-input.bin" "$dir/host.bin"
-  local frames mean max stack verdict
+  "$replay_dir/stickslip_node_replay_$scalar" "$dir/stickslip-input.bin" "$dir/host-frames.bin" \
+    "$dir/host-records.bin"
+  local frames sent mismatched records mean max stack against_ecu=""
   frames=$(awk '$1 == "frames" {print $2}' "$dir/qemu.txt")
   mean=$(awk '$1 == "instructions_per_frame_mean" {print $2}' "$dir/qemu.txt")
   max=$(awk '$1 == "instructions_per_frame_max" {print $2}' "$dir/qemu.txt")
@@ -45,13 +71,35 @@ run_target() {  # preset machine scalar
   p99=$(awk '$1 == "instructions_per_frame_p99" {print $2}' "$dir/qemu.txt")
   p999=$(awk '$1 == "instructions_per_frame_p999" {print $2}' "$dir/qemu.txt")
   stack=$(awk '$1 == "callback_stack_bytes" {print $2}' "$dir/qemu.txt")
-  if cmp -s "$dir/host.bin" "$dir/stickslip-output.bin"; then
-    verdict=identical
+  # Frames compared record by record: the count and the ones that differ.
+  read -r sent mismatched < <(python3 - "$dir/stickslip-frames.bin" "$dir/host-frames.bin" <<'PY'
+import sys
+a, b = (open(p, "rb").read() for p in sys.argv[1:3])
+n = max(len(a), len(b)) // 16
+print(len(a) // 16, sum(a[16 * i:16 * i + 16] != b[16 * i:16 * i + 16] for i in range(n)))
+PY
+)
+  if [ "$sent" -gt 0 ] && [ "$mismatched" -eq 0 ] && cmp -s "$dir/host-frames.bin" "$dir/stickslip-frames.bin"; then
+    frames_verdict=identical
   else
-    verdict=DIFFERENT
+    frames_verdict=DIFFERENT
     status=1
   fi
-  echo "$preset $machine $scalar frames=$frames $verdict instructions_per_frame_mean=$mean instructions_per_frame_p50=$p50 instructions_per_frame_p99=$p99 instructions_per_frame_p999=$p999 instructions_per_frame_max=$max callback_stack_bytes=$stack"
+  if cmp -s "$dir/host-records.bin" "$dir/stickslip-records.bin"; then
+    records=identical
+  else
+    records=DIFFERENT
+    status=1
+  fi
+  if [ "$scalar" = float ]; then
+    if cmp -s "$work/ecu-frames.bin" "$dir/stickslip-frames.bin"; then
+      against_ecu=" frames_against_ecu_loopback=identical"
+    else
+      against_ecu=" frames_against_ecu_loopback=DIFFERENT"
+      status=1
+    fi
+  fi
+  echo "$preset $machine $scalar frames=$frames frames_sent=$sent frames_mismatched=$mismatched frames_verdict=$frames_verdict records=$records$against_ecu instructions_per_frame_mean=$mean instructions_per_frame_p50=$p50 instructions_per_frame_p99=$p99 instructions_per_frame_p999=$p999 instructions_per_frame_max=$max callback_stack_bytes=$stack"
 }
 run_target cortex-m0plus mps2-an385 fixed
 run_target cortex-m4f mps2-an386 float

@@ -11,6 +11,9 @@ void board_start();
 bool board_can_read(stickslip::can::Frame* frame);
 // Queues one frame for transmission (drops it if the mailbox is full).
 void board_can_send(const stickslip::can::Frame* frame);
+// Called after the node has stepped the seat for one sample and sent its frames (a board that
+// records the run reads stickslip_node_record() here; none needs to).
+void board_node_sampled();
 // Waits for the next interrupt.
 void board_idle();
 }

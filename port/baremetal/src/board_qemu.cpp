@@ -1,9 +1,10 @@
 // QEMU's mps2 boards (mps2-an385: Cortex-M3, runs the Cortex-M0+ build; mps2-an386: Cortex-M4F)
-// with semihosting: the "CAN controller" delivers the payloads of stickslip-input.bin one
-// frame per interrupt, the node's records go to stickslip-output.bin, and the figures of the run
-// to the console. Under `-icount shift=0` one instruction advances the virtual clock by 1 ns, so
-// SysTick (processor clock, 25 MHz on mps2) counts one tick per 40 instructions: the total over
-// the run gives the instructions per frame.
+// with semihosting: the "CAN controller" delivers the frames of stickslip-input.bin one frame per
+// interrupt, the frames the node sends go to stickslip-frames.bin and its step records to
+// stickslip-records.bin (replay.hpp), and the figures of the run to the console. Under `-icount
+// shift=0` one instruction advances the virtual clock by 1 ns, so SysTick (processor clock, 25 MHz
+// on mps2) counts one tick per 40 instructions: the total over the run gives the instructions per
+// frame.
 #include <cstddef>
 #include <cstdint>
 
@@ -53,7 +54,7 @@ void print_number(std::uint64_t value) {
   }
 }
 
-int input_file = -1, output_file = -1;
+int input_file = -1, output_files[2] = {-1, -1};
 
 struct ReadInput {
   std::size_t operator()(std::uint8_t* buffer, std::size_t capacity) const {
@@ -64,11 +65,11 @@ struct ReadInput {
   }
 };
 struct WriteOutput {
-  void operator()(const std::uint8_t* bytes, std::size_t count) const {
-    const std::uintptr_t block[3] = {static_cast<std::uintptr_t>(output_file),
+  void operator()(int file, const std::uint8_t* bytes, std::size_t count) const {
+    const std::uintptr_t block[3] = {static_cast<std::uintptr_t>(output_files[file]),
                                      reinterpret_cast<std::uintptr_t>(bytes), count};
     if (semihost(kSysWrite, block) != 0) {
-      print("board_qemu: cannot write stickslip-output.bin\n");
+      print("board_qemu: cannot write stickslip-frames.bin / stickslip-records.bin\n");
       exit_with(false);
     }
   }
@@ -77,6 +78,7 @@ Replay<ReadInput, WriteOutput> replay{ReadInput{}, WriteOutput{}};
 
 stickslip::can::Frame pending;
 bool has_pending = false;
+bool stepped = false;  // the node stepped the seat for the frame being delivered
 
 // SysTick, free running from the processor clock.
 volatile std::uint32_t* const kSysTick = reinterpret_cast<volatile std::uint32_t*>(0xE000E010u);
@@ -97,10 +99,13 @@ extern "C" void board_start() {
   // Paint the free stack (below this frame) to measure its high-water mark at the end.
   std::uint32_t here = 0;
   for (std::uint32_t* word = &__bss_end; word + 16 < &here; ++word) *word = kStackPaint;
-  input_file = open_file("stickslip-input.bin", 1);    // "rb"
-  output_file = open_file("stickslip-output.bin", 5);  // "wb"
-  if (input_file < 0 || output_file < 0) {
-    print("board_qemu: cannot open stickslip-input.bin / stickslip-output.bin\n");
+  input_file = open_file("stickslip-input.bin", 1);         // "rb"
+  output_files[0] = open_file("stickslip-frames.bin", 5);   // "wb"
+  output_files[1] = open_file("stickslip-records.bin", 5);  // "wb"
+  if (input_file < 0 || output_files[0] < 0 || output_files[1] < 0) {
+    print(
+        "board_qemu: cannot open stickslip-input.bin / stickslip-frames.bin / "
+        "stickslip-records.bin\n");
     exit_with(false);
   }
   kSysTick[1] = kTicksMask;  // reload
@@ -115,11 +120,19 @@ extern "C" bool board_can_read(stickslip::can::Frame* frame) {
   return true;
 }
 
-extern "C" void board_can_send(const stickslip::can::Frame* /*frame*/) {}
+// The mailbox: the frame's record appended to a buffer (in the interrupt, as a driver's copy
+// into the transmit mailbox would be).
+extern "C" void board_can_send(const stickslip::can::Frame* frame) {
+  replay.sent(*frame);
+}
+extern "C" void board_node_sampled() {
+  stepped = true;
+}
 
 extern "C" void board_idle() {
   if (replay.next_frame(&pending)) {
     has_pending = true;
+    stepped = false;
     volatile std::uint32_t marker = 0;
     callback_stack_base = reinterpret_cast<std::uintptr_t>(&marker);
     const std::uint32_t before = kSysTick[2];
@@ -131,7 +144,8 @@ extern "C" void board_idle() {
     const std::uint64_t bucket = elapsed * kInstructionsPerTick / 100u;
     ++histogram[bucket < kBuckets ? bucket : kBuckets - 1];
     ++frames;
-    replay.record();
+    if (stepped) replay.sampled();
+    replay.flush_if_half_full();
     return;
   }
   replay.flush();

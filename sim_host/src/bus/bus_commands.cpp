@@ -74,7 +74,14 @@ nlohmann::ordered_json bus_load_json(const BusLoad& load, double duration_s) {
 }
 
 const char* output_set_name(OutputSet outputs) {
-  return outputs == OutputSet::reduced ? "reduced" : "full";
+  switch (outputs) {
+    case OutputSet::reduced:
+      return "reduced";
+    case OutputSet::motion:
+      return "motion";
+    default:
+      return "full";
+  }
 }
 
 std::string with_bus_fields(const std::string& stats_json, const ReplayRequest& request,

@@ -17,11 +17,6 @@
 
 namespace stickslip::host {
 
-struct SampleOutput {
-  double x_r, v_r, a_x, f_f;
-  bool stuck;
-};
-
 // The model behind one virtual call per sample: the loop body of simulate_signal() (reset and
 // current() for the first sample, step() after), with the statistics in the run's scalar type.
 class SeatModel {
@@ -284,7 +279,47 @@ std::string estimator_limits(const can::SensorCounters& sensors, std::uint64_t s
   return {};
 }
 
-EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config.checker) {
+can::SeatWords HostSeat::start(std::uint16_t a_u_word) {
+  last = model->first(can::physical<double>(can::kSeatInput.signals[0], a_u_word));
+  return can::SeatWords{can::quantise(can::kSeatMotion.signals[0], last.a_x),
+                        can::quantise(can::kSeatMotion.signals[1], last.x_r),
+                        can::quantise(can::kSeatForce.signals[0], last.v_r),
+                        can::quantise(can::kSeatForce.signals[1], last.f_f), last.stuck};
+}
+
+can::SeatWords HostSeat::step(std::uint16_t a_u_word) {
+  last = model->step(can::physical<double>(can::kSeatInput.signals[0], a_u_word));
+  return can::SeatWords{can::quantise(can::kSeatMotion.signals[0], last.a_x),
+                        can::quantise(can::kSeatMotion.signals[1], last.x_r),
+                        can::quantise(can::kSeatForce.signals[0], last.v_r),
+                        can::quantise(can::kSeatForce.signals[1], last.f_f), last.stuck};
+}
+
+can::StatsWords HostSeat::statistics() const {
+  // The observer's window (10 s) as of its last completed block; before the first block
+  // completes nothing has been observed: not available (all ones), as J1939 does.
+  const ObserverSummary running = model->observed();
+  const bool ready = running.window_s > 0.0;
+  const double not_available = std::numeric_limits<double>::quiet_NaN();
+  const double k = running.den_hartog_k;
+  can::StatsWords words;
+  words.transmissibility =
+      can::quantise(can::kSeatStats.signals[0], ready ? running.transmissibility : not_available);
+  words.stick_probability =
+      can::quantise(can::kSeatStats.signals[1], ready ? running.stick_probability : not_available);
+  words.den_hartog_k =
+      can::quantise(can::kSeatScene.signals[0], ready && std::isfinite(k) ? k : not_available);
+  return words;
+}
+
+struct EcuNode::Sink {
+  EcuNode& node;
+  std::vector<can::Frame>& outputs;
+  void send(const can::Frame& frame) { outputs.push_back(frame); }
+  void sampled(const can::NodeSample& sample) { node.record(sample, outputs); }
+};
+
+EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config) {
   if (config_.stats_every == 0) config_.stats_every = 1;
   if (config_.output_every == 0) throw UsageError("--output-every: must be >= 1 sample");
   if (config_.setup.reference) throw UsageError("the ECU node runs the core's integrators only");
@@ -295,6 +330,14 @@ EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config), checker_(config
   model_ = config_.scalar == ScalarType::fixed     ? make_fixed_model(config_.setup)
            : config_.scalar == ScalarType::float32 ? make_model<float>(config_.setup)
                                                    : make_model<double>(config_.setup);
+  node_.seat().model = model_.get();
+  can::EcuNodeParams node_params;
+  node_params.checker = config_.checker;
+  node_params.stats_every = config_.stats_every;
+  node_params.output_every = config_.output_every;
+  node_params.outputs = config_.outputs;
+  if (node_.configure(node_params) != Status::ok)
+    throw UsageError("the ECU node refused its output and stats cycles");
   if (config_.estimator) {
     if (config_.scalar == ScalarType::fixed)
       throw UsageError(
@@ -337,56 +380,27 @@ can::FrameVerdict EcuNode::on_frame(const can::Frame& frame, std::uint64_t now_n
       }
     }
   }
-  const can::CheckResult result = checker_.check(frame, now_ns);
-  if (frame.id == can::kSeatInput.id && !(frame.flags & can::kExtendedId)) ++input_frames_;
-  const bool accepted = result.verdict == can::FrameVerdict::accepted;
-  if (accepted || result.hold) {
-    const std::uint16_t counter = result.payload.sample_counter;
-    // The sender's sample number: the counter step as the checker took it (forward, or back
-    // for a restarted sender), added to the last one.
-    const std::int64_t sample =
-        samples_ == 0
-            ? counter
-            : last_sample_ +
-                  static_cast<std::int16_t>(static_cast<std::uint16_t>(counter - last_counter_));
-    last_counter_ = counter;
-    if (samples_ > 0) {
-      for (unsigned i = 0; i < result.lost_samples; ++i)
-        emit(last_a_u_, true, false, sample - result.lost_samples + i, outputs);
-    }
-    if (accepted) {
-      emit(can::physical<double>(can::kSeatInput.signals[0], result.payload.words[0]), false,
-           result.resync, sample, outputs);
-    } else if (samples_ > 0) {
-      emit(last_a_u_, true, false, sample, outputs);
-    }
-  }
+  Sink sink{*this, outputs};
+  const can::FrameVerdict verdict = node_.on_frame(frame, now_ns, sink);
   busy_s_ += static_cast<double>(clock_ns() - start) * 1e-9;
-  return result.verdict;
+  return verdict;
 }
 
-void EcuNode::emit(double a_u, bool held, bool resync, std::int64_t sample,
-                   std::vector<can::Frame>& outputs) {
-  const std::uint64_t index = samples_;
-  if (samples_ == 0) first_sample_ = sample;
-  last_sample_ = sample;
-  const SampleOutput out = samples_ == 0 ? model_->first(a_u) : model_->step(a_u);
-  ++samples_;
-  last_a_u_ = a_u;
+void EcuNode::record(const can::NodeSample& sample, std::vector<can::Frame>& outputs) {
+  const double a_u = can::physical<double>(can::kSeatInput.signals[0], sample.a_u_word);
   if (config_.keep_trace) {
-    trace_.index.push_back(index);
-    trace_.sample.push_back(sample);
+    const SampleOutput& out = node_.seat().last;
+    trace_.index.push_back(sample.index);
+    trace_.sample.push_back(sample.sample);
     trace_.a_u.push_back(a_u);
     trace_.x_r.push_back(out.x_r);
     trace_.v_r.push_back(out.v_r);
     trace_.a_x.push_back(out.a_x);
     trace_.f_f.push_back(out.f_f);
     trace_.stuck.push_back(out.stuck ? 1 : 0);
-    trace_.held.push_back(held ? 1 : 0);
+    trace_.held.push_back(sample.held ? 1 : 0);
   }
-
-  publish(out.x_r, out.v_r, out.a_x, out.f_f, out.stuck, held, resync, index, outputs);
-  if (estimator_) estimate(a_u, held, resync, sample, index, outputs);
+  if (estimator_) estimate(a_u, sample.held, sample.resync, sample.sample, sample.index, outputs);
 }
 
 void EcuNode::estimate(double a_u, bool held, bool resync, std::int64_t sample, std::uint64_t index,
@@ -408,16 +422,16 @@ void EcuNode::estimate(double a_u, bool held, bool resync, std::int64_t sample, 
   const bool reduced = config_.outputs == OutputSet::reduced;
   if (index % config_.output_every == 0) {
     outputs.push_back(
-        output_frame(can::kSeatEstimate, counter, alive_[4], state_flags, e.x_r_m, e.v_r_m_per_s));
+        output_frame(can::kSeatEstimate, counter, alive_[0], state_flags, e.x_r_m, e.v_r_m_per_s));
     if (!reduced)
-      outputs.push_back(output_frame(can::kSeatEstimateForce, counter, alive_[5], state_flags,
+      outputs.push_back(output_frame(can::kSeatEstimateForce, counter, alive_[1], state_flags,
                                      e.friction_n, e.bias_m_per_s2));
   }
   if (index % config_.stats_every == 0) {
     // Not available (all ones, J1939 style) until the start value has lost its weight.
     const double not_available = std::numeric_limits<double>::quiet_NaN();
     outputs.push_back(output_frame(
-        can::kFrictionEstimate, counter, alive_[6], 0,
+        can::kFrictionEstimate, counter, alive_[2], 0,
         kinetic_friction_converged(estimator_params_, e.kinetic_samples) ? e.kinetic_friction_n
                                                                          : not_available,
         static_friction_converged(estimator_params_, e.breakaways) ? e.static_friction_n
@@ -428,7 +442,7 @@ void EcuNode::estimate(double a_u, bool held, bool resync, std::int64_t sample, 
 EstimatorReport EcuNode::estimator_report() const {
   EstimatorReport report;
   report.sensors = sensors_.counters();
-  if (!estimator_ || samples_ == 0) return report;
+  if (!estimator_ || node_.samples() == 0) return report;
   const StateEstimate<double> e = estimator_->estimate();
   report.x_r_m = e.x_r_m;
   report.v_r_m_per_s = e.v_r_m_per_s;
@@ -441,36 +455,6 @@ EstimatorReport EcuNode::estimator_report() const {
   report.breakaways = e.breakaways;
   report.kinetic_samples = e.kinetic_samples;
   return report;
-}
-
-void EcuNode::publish(double x_r, double v_r, double a_x, double f_f, bool stuck, bool held,
-                      bool resync, std::uint64_t index, std::vector<can::Frame>& outputs) {
-  const auto counter = static_cast<std::uint16_t>(index & 0xFFFFu);
-  const std::uint8_t state_flags = static_cast<std::uint8_t>(
-      (stuck ? can::kStuck : 0) | (held ? can::kHeld : 0) | (resync ? can::kResync : 0));
-  const auto pair_frame = [&](const can::MessageSpec& message, int slot, std::uint8_t flags,
-                              double first, double second) {
-    outputs.push_back(output_frame(message, counter, alive_[slot], flags, first, second));
-  };
-  const bool reduced = config_.outputs == OutputSet::reduced;
-  if (index % config_.output_every == 0) {
-    pair_frame(can::kSeatMotion, 0, state_flags, a_x, x_r);
-    if (!reduced) pair_frame(can::kSeatForce, 1, state_flags, v_r, f_f);
-  }
-  if (index % config_.stats_every == 0) {
-    // The observer's window (10 s) as of its last completed block; before the first block
-    // completes nothing has been observed: not available (all ones), as J1939 does.
-    const ObserverSummary running = model_->observed();
-    const bool ready = running.window_s > 0.0;
-    const double not_available = std::numeric_limits<double>::quiet_NaN();
-    const double k = running.den_hartog_k;
-    pair_frame(can::kSeatStats, 2, 0, ready ? running.transmissibility : not_available,
-               ready ? running.stick_probability : not_available);
-    if (reduced) return;
-    const double faults = static_cast<double>(checker_.counters().faults());
-    pair_frame(can::kSeatScene, 3, 0, ready && std::isfinite(k) ? k : not_available,
-               std::fmin(faults, static_cast<double>(can::kUnsignedMax)));
-  }
 }
 
 can::Frame output_frame(const can::MessageSpec& message, std::uint16_t sample_counter,
@@ -492,11 +476,12 @@ SimulationSummary EcuNode::summary() const {
   SimulationSummary summary;
   summary.dt_s = config_.setup.params.dt_s;
   summary.end_stops = (config_.setup.effects & kEndStops) != 0;  // contacts 0 before a sample
-  if (samples_ > 0) model_->summarise(summary);
+  const std::uint64_t samples = node_.samples();
+  if (samples > 0) model_->summarise(summary);
   summary.den_hartog_k = den_hartog_factor(config_.setup.params.kinetic_friction_n,
                                            config_.setup.params.mass_kg, summary.rms_u);
   summary.repetitions = 1;
-  summary.ns_per_sample = samples_ > 1 ? busy_s_ * 1e9 / static_cast<double>(samples_ - 1) : 0.0;
+  summary.ns_per_sample = samples > 1 ? busy_s_ * 1e9 / static_cast<double>(samples - 1) : 0.0;
   return summary;
 }
 

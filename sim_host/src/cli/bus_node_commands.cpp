@@ -43,8 +43,9 @@ struct NodeOptions {
         ->check(CLI::PositiveNumber);
     command
         .add_option("--outputs", outputs,
-                    "full (SeatMotion, SeatForce, SeatStats, SeatScene) or reduced (SeatMotion, "
-                    "SeatStats: fits 250 and 500 kbit/s buses; docs/CAN.md)")
+                    "full (SeatMotion, SeatForce, SeatStats, SeatScene), reduced (SeatMotion, "
+                    "SeatStats: fits 250 and 500 kbit/s buses; docs/CAN.md) or motion "
+                    "(SeatMotion, SeatForce: what the Cortex-M firmware publishes)")
         ->capture_default_str();
   }
 
@@ -56,8 +57,11 @@ struct NodeOptions {
       request.outputs = OutputSet::full;
     } else if (outputs == "reduced") {
       request.outputs = OutputSet::reduced;
+    } else if (outputs == "motion") {
+      request.outputs = OutputSet::motion;
     } else {
-      throw UsageError("--outputs: unknown set '" + outputs + "' (expected full or reduced)");
+      throw UsageError("--outputs: unknown set '" + outputs +
+                       "' (expected full, reduced or motion)");
     }
   }
 };

@@ -14,17 +14,41 @@ inline constexpr std::uint8_t kCrc8SaeJ1850FinalXor = 0xFF;
 
 // Continues a CRC over more bytes. `register_value` is the raw register (before the final XOR):
 // start with kCrc8SaeJ1850Initial, apply the final XOR once at the end.
+namespace detail {
+
+// The register after shifting one byte through the polynomial, MSB first (the bitwise definition).
+constexpr std::uint8_t crc8_sae_j1850_byte(std::uint8_t register_value) noexcept {
+  for (int bit = 0; bit < 8; ++bit) {
+    register_value =
+        (register_value & 0x80u)
+            ? static_cast<std::uint8_t>((register_value << 1) ^ kCrc8SaeJ1850Polynomial)
+            : static_cast<std::uint8_t>(register_value << 1);
+  }
+  return register_value;
+}
+
+struct Crc8Table {
+  std::uint8_t entry[256];
+};
+
+constexpr Crc8Table make_crc8_sae_j1850_table() noexcept {
+  Crc8Table table{};
+  for (unsigned i = 0; i < 256; ++i)
+    table.entry[i] = crc8_sae_j1850_byte(static_cast<std::uint8_t>(i));
+  return table;
+}
+
+// Computed at compile time from the bitwise definition (256 bytes of flash): one lookup per
+// byte instead of eight shifts, which is most of the node's receive check and output encoding on
+// a Cortex-M (docs/EMBEDDED.md).
+inline constexpr Crc8Table kCrc8SaeJ1850Table = make_crc8_sae_j1850_table();
+
+}  // namespace detail
+
 constexpr std::uint8_t crc8_sae_j1850_update(std::uint8_t register_value, const std::uint8_t* data,
                                              std::size_t size) noexcept {
-  for (std::size_t i = 0; i < size; ++i) {
-    register_value = static_cast<std::uint8_t>(register_value ^ data[i]);
-    for (int bit = 0; bit < 8; ++bit) {
-      register_value =
-          (register_value & 0x80u)
-              ? static_cast<std::uint8_t>((register_value << 1) ^ kCrc8SaeJ1850Polynomial)
-              : static_cast<std::uint8_t>(register_value << 1);
-    }
-  }
+  for (std::size_t i = 0; i < size; ++i)
+    register_value = detail::kCrc8SaeJ1850Table.entry[register_value ^ data[i]];
   return register_value;
 }
 

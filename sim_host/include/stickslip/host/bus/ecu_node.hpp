@@ -1,7 +1,10 @@
-// The ECU node: CAN frames in -> receive checker (lib/can/receive_checker.hpp) -> the same
-// oscillator and statistics loop that `simulate` runs (simulation.hpp) -> output frames. Fed one
-// frame at a time by whoever owns the bus (replay, the `ecu` command, tests), so it never blocks
-// and no input can make it stop or throw: a refused frame is counted and goes no further.
+// The host's ECU node: the node of lib/ (stickslip/can/ecu_node.hpp: receive checker, sample
+// numbering and gap policy, output frames in the DBC's layout, the same code the firmware runs)
+// around the same oscillator and statistics loop that `simulate` runs (simulation.hpp). This
+// class adds what only the host has: the scalar and law chosen at run time, the observer's
+// windows for SeatStats/SeatScene, the state estimator, the trace and the run's statistics. Fed
+// one frame at a time by whoever owns the bus (replay, the `ecu` command, tests), so it never
+// blocks and no input can make it stop or throw: a refused frame is counted and goes no further.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +13,7 @@
 #include <vector>
 
 #include "stickslip/can/codec.hpp"
+#include "stickslip/can/ecu_node.hpp"
 #include "stickslip/can/frame.hpp"
 #include "stickslip/can/receive_checker.hpp"
 #include "stickslip/can/sensor_receiver.hpp"
@@ -18,10 +22,8 @@
 
 namespace stickslip::host {
 
-// The messages the node publishes (docs/CAN.md, "Bus load"): full = SeatMotion and SeatForce
-// every output cycle, SeatStats and SeatScene every stats cycle; reduced = SeatMotion and
-// SeatStats only, for 250 and 500 kbit/s buses.
-enum class OutputSet { full, reduced };
+// The messages the node publishes: full, reduced or motion (lib/can/ecu_node.hpp).
+using OutputSet = can::OutputSet;
 
 struct EcuNodeConfig {
   SimulationSetup setup;  // params (dt_s = the sample interval of the stream), x0, v0
@@ -76,6 +78,25 @@ struct NodeTrace {
 class SeatModel;  // the oscillator + statistics for the configured law and scalar (ecu_node.cpp)
 class SeatEstimatorRun;  // the state estimator in the configured scalar (ecu_node.cpp)
 
+// One sample of the seat in double (a float run exactly).
+struct SampleOutput {
+  double x_r, v_r, a_x, f_f;
+  bool stuck;
+};
+
+// The host's seat as the lib node's Seat: SeatModel behind the word interface. a_u is decoded
+// and the outputs quantised in double, as the host node always did (exact for double and float
+// runs alike); the statistics words come from the observer's window.
+class HostSeat {
+ public:
+  can::SeatWords start(std::uint16_t a_u_word);
+  can::SeatWords step(std::uint16_t a_u_word);
+  can::StatsWords statistics() const;
+
+  SeatModel* model = nullptr;
+  SampleOutput last{};  // the last sample, for the trace
+};
+
 class EcuNode {
  public:
   // Throws ConfigurationError when the core refuses the parameters.
@@ -90,19 +111,19 @@ class EcuNode {
   can::FrameVerdict on_frame(const can::Frame& frame, std::uint64_t now_ns,
                              std::vector<can::Frame>& outputs);
   // Call when the bus has been quiet (a receive timed out): counts bus silence.
-  void on_idle(std::uint64_t now_ns) { checker_.check_silence(now_ns); }
+  void on_idle(std::uint64_t now_ns) { node_.on_idle(now_ns); }
   // Restarts the silence clock (call once when the node starts listening).
-  void start(std::uint64_t now_ns) { checker_.restart(now_ns); }
+  void start(std::uint64_t now_ns) { node_.start(now_ns); }
 
-  const can::FaultCounters& counters() const noexcept { return checker_.counters(); }
+  const can::FaultCounters& counters() const noexcept { return node_.counters(); }
   // Frames with the SeatInput identifier checked so far (whatever their verdict).
-  std::uint64_t input_frames() const noexcept { return input_frames_; }
-  std::uint64_t samples() const noexcept { return samples_; }
+  std::uint64_t input_frames() const noexcept { return node_.input_frames(); }
+  std::uint64_t samples() const noexcept { return node_.samples(); }
   // The sender's sample numbers (see NodeTrace::sample) of the first and the last row; valid
   // when samples() > 0. A restarted node starts again at the counter of its first frame: the
   // samples before it that it never saw are the gap across the restart.
-  std::int64_t first_sample() const noexcept { return first_sample_; }
-  std::int64_t last_sample() const noexcept { return last_sample_; }
+  std::int64_t first_sample() const noexcept { return node_.first_sample(); }
+  std::int64_t last_sample() const noexcept { return node_.last_sample(); }
   const NodeTrace& trace() const noexcept { return trace_; }
   // The statistics of the run so far, as simulate_signal() reports them (ns_per_sample: wall
   // time of on_frame per sample, not comparable with simulate's tight loop).
@@ -112,28 +133,21 @@ class EcuNode {
   EstimatorReport estimator_report() const;
 
  private:
-  void emit(double a_u, bool held, bool resync, std::int64_t sample,
-            std::vector<can::Frame>& outputs);
-  void publish(double x_r, double v_r, double a_x, double f_f, bool stuck, bool held, bool resync,
-               std::uint64_t index, std::vector<can::Frame>& outputs);
+  struct Sink;  // the lib node's frames into `outputs`, its samples into record()
+  // After the lib node has published one sample: the trace and the estimator.
+  void record(const can::NodeSample& sample, std::vector<can::Frame>& outputs);
   void estimate(double a_u, bool held, bool resync, std::int64_t sample, std::uint64_t index,
                 std::vector<can::Frame>& outputs);
 
   EcuNodeConfig config_;
-  can::ReceiveChecker checker_;
+  can::EcuNode<HostSeat> node_;
   std::unique_ptr<SeatModel> model_;
   std::unique_ptr<SeatEstimatorRun> estimator_;
   StateEstimatorParams estimator_params_;
   can::SensorReceiver sensors_;
   NodeTrace trace_;
-  std::uint64_t samples_ = 0;
-  std::uint64_t input_frames_ = 0;
-  double last_a_u_ = 0.0;
-  std::int64_t first_sample_ = 0;
-  std::int64_t last_sample_ = 0;
-  std::uint16_t last_counter_ = 0;  // of the last frame that brought a sample (or a hold)
   double busy_s_ = 0.0;
-  std::uint8_t alive_[7] = {0, 0, 0, 0, 0, 0, 0};
+  std::uint8_t alive_[3] = {0, 0, 0};  // SeatEstimate, SeatEstimateForce, FrictionEstimate
 };
 
 // One output frame of `message` for sample `sample_counter`; advances the message's `alive`

@@ -1,0 +1,172 @@
+// The seats lib/ offers the ECU node (ecu_node.hpp): the oscillator behind the node's word
+// interface. a_u arrives as the SeatInput word (2^-10 m/s^2 per bit); the outputs leave as the
+// SeatMotion/SeatForce words. Neither keeps running statistics (StatsWords says not available):
+// the host node adds the observer's windows, the firmware publishes OutputSet::motion.
+//   OscillatorSeat<T, Law>: float or double; decode and encode are exact (power-of-two scales),
+//                           so the words equal the host's double path for the same outputs.
+//   ScaledSeat<T, Law>:     a 32-bit fixed-point scalar in scene units (models/
+//                           scaled_oscillator.hpp, the Cortex-M0+ build): one integer product and
+//                           a rounding shift per signal (CountScale), no float at all.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "stickslip/can/codec.hpp"
+#include "stickslip/can/ecu_node.hpp"
+#include "stickslip/core/params.hpp"
+#include "stickslip/core/scalar.hpp"
+#include "stickslip/core/status.hpp"
+#include "stickslip/models/oscillator.hpp"
+#include "stickslip/models/scaled_oscillator.hpp"
+
+namespace stickslip::can {
+
+template <typename T, typename Law>
+class OscillatorSeat {
+ public:
+  using Scalar = T;
+
+  // The model's parameters (dt_s = the sample interval of the stream) and where it starts.
+  ConfigResult configure(const OscillatorParams& params, T x0_m = T(0),
+                         T v0_m_per_s = T(0)) noexcept {
+    x0_ = x0_m;
+    v0_ = v0_m_per_s;
+    return oscillator_.configure(params);
+  }
+
+  SeatWords start(std::uint16_t a_u_word) noexcept {
+    oscillator_.reset(x0_, v0_, input(a_u_word));
+    last_ = oscillator_.current();
+    return words(last_);
+  }
+  SeatWords step(std::uint16_t a_u_word) noexcept {
+    advance(input(a_u_word));
+    return words(last_);
+  }
+  // The parts of step(), for a caller that puts the model's step in a function of its own (the
+  // firmware: its step budget is measured from there): the input, the step, the words.
+  STICKSLIP_INLINE_STEP void advance(T a_u) noexcept {
+    oscillator_.step(a_u, last_);  // in place: no copy on an interrupt's stack
+  }
+  StatsWords statistics() const noexcept { return {}; }
+
+  // Exact: a_u is the word times 2^-10 (a power of two: a multiply, no ldexp call).
+  static T input(std::uint16_t word) noexcept {
+    return T(word_as_signed(word)) * (T(1) / T(1u << kSeatInput.signals[0].fraction_bits));
+  }
+  SeatWords last_words() const noexcept { return words(last_); }
+
+  const StepOutput<T>& last() const noexcept { return last_; }
+  const Oscillator<T, Law>& oscillator() const noexcept { return oscillator_; }
+
+ private:
+  // quantise() (codec.hpp) for a signed signal, with the scale a compile-time power of two: the
+  // same word and saturation flag (the scaling is exact either way), without its ldexp calls.
+  static_assert(kSeatMotion.signals[0].is_signed && kSeatMotion.signals[1].is_signed &&
+                    kSeatForce.signals[0].is_signed && kSeatForce.signals[1].is_signed,
+                "word() encodes signed signals");
+  template <int kFractionBits>
+  static Quantised word(T value) noexcept {
+    if (value != value) return {signed_word(kSignedNotAvailable), false};
+    const T scaled = value * T(1u << kFractionBits);  // exact
+    const T limit = T(kSignedMax) + T(0.5);
+    if (scaled >= limit) return {signed_word(kSignedMax), true};
+    if (scaled <= -limit) return {signed_word(-kSignedMax), true};
+    return {signed_word(static_cast<std::int16_t>(std::round(scaled))), false};
+  }
+  static SeatWords words(const StepOutput<T>& out) noexcept {
+    SeatWords w;
+    w.a_x = word<kSeatMotion.signals[0].fraction_bits>(out.a_x_m_per_s2);
+    w.x_r = word<kSeatMotion.signals[1].fraction_bits>(out.x_r_m);
+    w.v_r = word<kSeatForce.signals[0].fraction_bits>(out.v_r_m_per_s);
+    w.f_f = word<kSeatForce.signals[1].fraction_bits>(out.friction_n);
+    w.stuck = out.stuck;
+    return w;
+  }
+
+  Oscillator<T, Law> oscillator_;
+  StepOutput<T> last_{};
+  T x0_ = T(0), v0_ = T(0);
+};
+
+template <typename T, typename Law>
+class ScaledSeat {
+ public:
+  using Scalar = T;
+
+  // Configures the scaled oscillator (it starts at rest) and the word scales of its scene units.
+  // Refuses (out_of_range, naming the signal) a scene whose units no CountScale can carry.
+  ConfigResult configure(const OscillatorParams& si) noexcept {
+    ConfigResult result = model_.configure(si);
+    if (!result.ok()) return result;
+    const SceneUnits& u = model_.units();
+    const auto per_bit = [](const SignalSpec& s) { return std::ldexp(1.0, -s.fraction_bits); };
+    const char* failed = nullptr;
+    if (!input_.set_count_to_scalar(per_bit(kSeatInput.signals[0]) / u.acceleration_m_per_s2()))
+      failed = "SeatInput.a_u";
+    else if (!a_x_.set_scalar_to_count(u.acceleration_m_per_s2() / per_bit(kSeatMotion.signals[0])))
+      failed = "SeatMotion.a_x";
+    else if (!x_r_.set_scalar_to_count(u.length_m / per_bit(kSeatMotion.signals[1])))
+      failed = "SeatMotion.x_r";
+    else if (!v_r_.set_scalar_to_count(u.velocity_m_per_s() / per_bit(kSeatForce.signals[0])))
+      failed = "SeatForce.v_r";
+    else if (!f_f_.set_scalar_to_count(u.force_n() / per_bit(kSeatForce.signals[1])))
+      failed = "SeatForce.f_f";
+    if (failed == nullptr) return result;
+    result = refusal(Status::out_of_range);
+    result.message.append(failed)
+        .append(": the scene unit is out of the word scale's reach (length L = ")
+        .append(u.length_m)
+        .append(" m)");
+    return result;
+  }
+
+  SeatWords start(std::uint16_t a_u_word) noexcept {
+    model_.oscillator().reset(T(0), T(0), input(a_u_word));
+    last_ = model_.oscillator().current();
+    return words(last_);
+  }
+  SeatWords step(std::uint16_t a_u_word) noexcept {
+    advance(input(a_u_word));
+    return words(last_);
+  }
+  // The parts of step(), for a caller that puts the model's step in a function of its own (the
+  // firmware: its step budget is measured from there): the input, the step, the words.
+  STICKSLIP_INLINE_STEP void advance(T a_u_scaled) noexcept {
+    model_.step(a_u_scaled, last_);  // in place: no copy on an interrupt's stack
+  }
+  StatsWords statistics() const noexcept { return {}; }
+
+  T input(std::uint16_t word) const noexcept { return input_.to_scalar(word_as_signed(word)); }
+  SeatWords last_words() const noexcept { return words(last_); }
+
+  const StepOutput<T>& last() const noexcept { return last_; }
+  const ScaledOscillator<T, Law>& model() const noexcept { return model_; }
+
+ private:
+  static constexpr std::int32_t kSignedLimit = kSignedMax;
+
+  // Rounded to nearest as quantise() does; beyond +-32767 clipped and flagged.
+  static Quantised word(const CountScale<T>& scale, T value) noexcept {
+    const std::int32_t count = scale.to_count(value, kSignedLimit + 1);
+    if (count > kSignedLimit) return {signed_word(kSignedMax), true};
+    if (count < -kSignedLimit) return {signed_word(-kSignedMax), true};
+    return {signed_word(static_cast<std::int16_t>(count)), false};
+  }
+  SeatWords words(const StepOutput<T>& out) const noexcept {
+    SeatWords w;
+    w.a_x = word(a_x_, out.a_x_m_per_s2);
+    w.x_r = word(x_r_, out.x_r_m);
+    w.v_r = word(v_r_, out.v_r_m_per_s);
+    w.f_f = word(f_f_, out.friction_n);
+    w.stuck = out.stuck;
+    return w;
+  }
+
+  ScaledOscillator<T, Law> model_;
+  StepOutput<T> last_{};
+  CountScale<T> input_, a_x_, x_r_, v_r_, f_f_;
+};
+
+}  // namespace stickslip::can

@@ -1,7 +1,9 @@
 // The seat with end stops: the stroke is free within +-travel; beyond it a stiff, damped stop acts
 // (Kelvin-Voigt: F_stop = k_s (x_r - travel sgn x_r) + b_s v_r while |x_r| > travel). Friction:
-// none, or Coulomb stick-slip (F_fs >= F_fk). Exact discretisation only. An actuator force f_a
-// held over a step (step(a_u, f_a), as Oscillator's) is a shift of that step's input by -f_a/m.
+// none, Coulomb stick-slip (F_fs >= F_fk) or Gaussian Stribeck (the same stick logic; slipping,
+// F_f = (F_fk + (F_fs - F_fk) exp(-(v_r/v_S)^2)) sgn v_r). Exact discretisation only. An actuator
+// force f_a held over a step (step(a_u, f_a), as Oscillator's) is a shift of that step's input by
+// -f_a/m.
 //
 // Between events the motion is linear in each mode (free or in contact, stuck or slipping one
 // way), so it is advanced by that mode's precomputed exact affine maps (first-order-hold input),
@@ -15,6 +17,13 @@
 // RMS in contact, the plain oscillator to 2e-15 with the stops out of reach). A contact or a
 // double crossing of v_r = 0 shorter than a sixteenth of the step may go unseen; it moves the
 // state by no more than that short interval can.
+//
+// Stribeck: the slip friction depends on v_r, so a slip phase has no closed form. As Oscillator's
+// exact integrator does, the friction is held over each piece of motion at its value at the
+// piece's start (the step's start, or the event that began the piece: break-away, reversal,
+// contact, release) and the piece is then exact for that force: first order in dt (the figures
+// and their refinement in tests/host/test_end_stop_stribeck.cpp). Out of reach of the stops the
+// trajectory is the plain Oscillator<T, StribeckStickSlip>'s (exact integrator) to rounding.
 //
 // Common path (no event): one affine map and a few compares, like Oscillator's.
 #pragma once
@@ -57,10 +66,13 @@ struct StopContacts {
 
 template <typename T, typename Law>
 class EndStopOscillator {
-  static_assert(std::is_same_v<Law, NoFriction> || std::is_same_v<Law, CoulombStickSlip>,
-                "end stops are modelled with no friction or with Coulomb stick-slip");
+  static_assert(std::is_same_v<Law, NoFriction> || std::is_same_v<Law, CoulombStickSlip> ||
+                    std::is_same_v<Law, StribeckStickSlip>,
+                "end stops are modelled with no friction, Coulomb stick-slip or Stribeck");
   using S = ScalarTraits<T>;
-  static constexpr bool kSticking = std::is_same_v<Law, CoulombStickSlip>;
+  static constexpr bool kSticking = Law::kind == LawKind::sticking;
+  // Stribeck: the slip force is held per piece of motion (held_force_), not a constant.
+  static constexpr bool kVelocityDependent = Law::velocity_dependent;
   static constexpr unsigned kTicks = kTicksPerStep;    // 2^16 ticks per step
   static constexpr unsigned kScanBlock = kTicks / 16;  // the event scan's block
   static constexpr int kBudget = kMaxEventsPerStep;
@@ -97,6 +109,10 @@ class EndStopOscillator {
     travel_ = S::from_double(stops.travel_m);
     kinetic_n_ = S::from_double(kSticking ? seat.kinetic_friction_n : 0.0);
     static_n_ = S::from_double(kSticking ? seat.static_friction_n : 0.0);
+    friction_.kinetic_n = kinetic_n_;
+    friction_.static_n = static_n_;
+    friction_.stribeck_excess_n = S::from_double(free_model.stribeck_excess_n);
+    friction_.inv_stribeck_velocity = S::from_double(free_model.inv_stribeck_velocity);
     dt_s_ = S::from_double(seat.dt_s);
     tick_fraction_ = S::from_double(1.0 / double(kTicks));  // a power of two
     // Inside a tick the exact motion of each mode is its Taylor polynomial, to an order whose
@@ -153,6 +169,7 @@ class EndStopOscillator {
     }
     contacts_ = 0;
     counters_ = SafetyCounters{};
+    refresh_force();
     acceleration_ = stuck() ? T(0) : seat_acceleration(x_, v_) - a_u_shifted;
   }
 
@@ -185,8 +202,7 @@ class EndStopOscillator {
       }
     } else {
       // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
-      const T offset =
-          inv_mass_ * (kinetic_n_ * direction_ - stop_stiffness_ * travel_ * T(contact_));
+      const T offset = inv_mass_ * (slip_force() - stop_stiffness_ * travel_ * T(contact_));
       T x = x_, v = v_;
       apply_step_map(maps_[contact_ != 0 ? 1 : 0][0], x, v, -(in.a0 + offset), -(in.a1 + offset));
       const T a_x = seat_acceleration(x, v);
@@ -197,15 +213,24 @@ class EndStopOscillator {
       if (!event_between(x_, v_, acc0, x, v, a_x - in.a1)) {
         x_ = x;
         v_ = v;
-        acceleration_ = a_x - in.a1;
         a_prev_ = a_u_next;
         out.contact = static_cast<std::int8_t>(contact_);
+        if constexpr (kVelocityDependent) {
+          // The next piece's force, from the state the step ended in (what the sample reports).
+          refresh_force();
+          const T a_x_end = seat_acceleration(x_, v_);
+          acceleration_ = a_x_end - in.a1;
+          if constexpr (kActuated) return slip_output(a_x_end + accel_offset);
+          return slip_output(a_x_end);
+        }
+        acceleration_ = a_x - in.a1;
         if constexpr (kActuated) return slip_output(a_x + accel_offset);
         return slip_output(a_x);
       }
     }
     events = search(in, stuck_fraction, out);
     guard_state();
+    refresh_force();
     a_prev_ = a_u_next;
     out.contact = static_cast<std::int8_t>(contact_);
     StepOutput<T> result = output(in.a1, stuck_fraction, events);
@@ -276,11 +301,11 @@ class EndStopOscillator {
     return mass_kg_ * a_u + stiffness_ * x + stop_spring_force(x);
   }
 
-  // Advances (x, v) from tick `from` by `count` ticks in mode (contact c, direction d), as dyadic
-  // blocks (largest first): exact for the mode's linear motion with the FOH input.
-  void advance(T& x, T& v, int c, T d, unsigned from, unsigned count,
+  // Advances (x, v) from tick `from` by `count` ticks in mode (contact c, friction force_n held),
+  // as dyadic blocks (largest first): exact for the mode's linear motion with the FOH input.
+  void advance(T& x, T& v, int c, T force_n, unsigned from, unsigned count,
                const Input& in) const noexcept {
-    const T offset = inv_mass_ * (kinetic_n_ * d - stop_stiffness_ * travel_ * T(c));
+    const T offset = inv_mass_ * (force_n - stop_stiffness_ * travel_ * T(c));
     const StepMap<T>* maps = maps_[c != 0 ? 1 : 0];
     unsigned at = from;
     for (int level = 0; level < kMapLevels && count > 0; ++level) {
@@ -299,14 +324,29 @@ class EndStopOscillator {
   T seat_acceleration(T x, T v) const noexcept {
     const int c = contact_;
     const T stop = c == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(c)) + stop_damping_ * v;
-    return -(inv_mass_ * (stiffness_ * x + damping_ * v + stop + kinetic_n_ * direction_));
+    return -(inv_mass_ * (stiffness_ * x + damping_ * v + stop + slip_force()));
+  }
+  // The friction force of the current piece of motion while slipping: F_fk d (Coulomb), or the
+  // Stribeck force held from the piece's start (refresh_force()); 0 for the frictionless seat.
+  T slip_force() const noexcept {
+    if constexpr (kVelocityDependent) {
+      return held_force_;
+    } else {
+      return kinetic_n_ * direction_;
+    }
+  }
+  // Stribeck: a piece of motion starts at the current state; its force is the law's there.
+  void refresh_force() noexcept {
+    if constexpr (kVelocityDependent) {
+      held_force_ = direction_ == T(0) ? T(0) : Law::slip_force(v_, direction_, friction_);
+    }
   }
   StepOutput<T> slip_output(T a_x) const noexcept {
     StepOutput<T> o{};
     o.x_r_m = x_;
     o.v_r_m_per_s = v_;
     o.a_x_m_per_s2 = a_x;
-    o.friction_n = kinetic_n_ * direction_;
+    o.friction_n = slip_force();
     o.stuck_time_s = T(0);
     o.stuck_fraction = T(0);
     o.stuck = false;
@@ -374,6 +414,7 @@ class EndStopOscillator {
     x_ = v_ = T(0);
     direction_ = kSticking ? T(0) : T(1);
     contact_ = 0;
+    refresh_force();
     ++counters_.state_resets;
   }
 
@@ -388,7 +429,7 @@ class EndStopOscillator {
       o.a_x_m_per_s2 = a_u;                  // stuck: the seat moves with the floor, exactly
       o.stuck = true;
     } else {
-      o.friction_n = kinetic_n_ * direction_;
+      o.friction_n = slip_force();
       o.a_x_m_per_s2 = -inv_mass_ * (stiffness_ * x_ + damping_ * v_ + stop + o.friction_n);
       o.stuck = false;
     }
@@ -403,9 +444,11 @@ class EndStopOscillator {
   T mass_kg_{}, inv_mass_{}, stiffness_{}, damping_{};
   T stop_stiffness_{}, stop_damping_{}, travel_{};
   T kinetic_n_{}, static_n_{};
+  FrictionCoefficients<T> friction_{};  // Stribeck: the law's coefficients
   T dt_s_{}, tick_fraction_{}, tick_s_{};
   T x_{}, v_{}, a_prev_{}, direction_{};
   T acceleration_{};  // v_r' at the current state (0 while stuck)
+  T held_force_{};    // Stribeck: the friction held over the current piece of motion
   int contact_ = 0;
   StopContacts<T> contacts_last_{};
   std::uint64_t contacts_ = 0;

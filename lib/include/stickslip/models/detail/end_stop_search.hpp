@@ -42,6 +42,7 @@ int EndStopOscillator<T, Law>::search(const Input& in, T& stuck_fraction,
         return events;
       }
       if (!break_away(in, pos, stuck_fraction)) return events;
+      refresh_force();  // Stribeck: the slip begins at rest, with F_fs
       ++events;
       continue;
     }
@@ -49,6 +50,7 @@ int EndStopOscillator<T, Law>::search(const Input& in, T& stuck_fraction,
     if (boundary == Boundary::none) return events;
     ++events;
     enter_mode_at(in, pos, boundary, out);
+    refresh_force();  // Stribeck: the next piece's force, from the event's state
   }
   return events;
 }
@@ -105,7 +107,7 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
   while (end < kTicks) {
     const unsigned next = (end / kScanBlock + 1) * kScanBlock;
     T xn = x, vn = v;
-    advance(xn, vn, contact_, direction_, end, next - end, in);
+    advance(xn, vn, contact_, slip_force(), end, next - end, in);
     if (detect && mode_ends(xn, vn)) {
       const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
       Position at{lo, T(0)};
@@ -140,7 +142,7 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
 template <typename T, typename Law>
 typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_tick(
     const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
-  const T offset = inv_mass_ * (kinetic_n_ * direction_ - stop_stiffness_ * travel_ * T(contact_));
+  const T offset = inv_mass_ * (slip_force() - stop_stiffness_ * travel_ * T(contact_));
   const T span = T(1) - pos.frac;
   const T starting = kSticking && v == T(0) ? direction_ : T(0);
   const TaylorSegment<T> segment(taylor_[contact_ != 0 ? 1 : 0], x, v, -(in.at(phi(pos)) + offset),
@@ -209,7 +211,7 @@ unsigned EndStopOscillator<T, Law>::first_tick_leaving_mode(const Input& in, uns
   while (hi - lo > 1) {
     const unsigned mid = lo + (hi - lo) / 2;
     T xm = x, vm = v;
-    advance(xm, vm, contact_, direction_, lo, mid - lo, in);
+    advance(xm, vm, contact_, slip_force(), lo, mid - lo, in);
     if (mode_ends(xm, vm)) {
       hi = mid;
       x_hi = xm;

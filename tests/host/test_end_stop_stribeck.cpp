@@ -206,8 +206,9 @@ TEST(EndStopStribeck, ContactConvergesToTheReferenceAtFirstOrderInDt) {
     std::size_t other_mode = 0, same_mode = 0;
     double error = 0.0;
     for (std::size_t n = 0; n < got.x.size(); ++n) {
-      const bool same = got.stuck[n] == exact.stuck[n] &&
-                        (got.stuck[n] != 0 || (got.friction[n] > 0.0) == (exact.friction_n[n] > 0.0));
+      const bool same =
+          got.stuck[n] == exact.stuck[n] &&
+          (got.stuck[n] != 0 || (got.friction[n] > 0.0) == (exact.friction_n[n] > 0.0));
       if (!same) {
         ++other_mode;
         continue;

@@ -37,6 +37,7 @@
 #include "stickslip/core/status.hpp"
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/integrators/discretisation.hpp"
+#include "stickslip/integrators/fixed_point_scaling.hpp"
 #include "stickslip/integrators/step_map.hpp"
 #include "stickslip/integrators/taylor_segment.hpp"
 // Oscillator: the scene's seat without stops, which users of the stops compare against.
@@ -96,6 +97,27 @@ class EndStopOscillator {
           .append("'");
       return result;
     }
+    if constexpr (S::kTracksSaturation) {
+      // Fixed point: the seat's coefficients and intermediates must fit the format, free and in
+      // contact (the stiffer, more damped seat), down to the event grid's tick of dt/2^16.
+      result = check_fixed_point_scene(seat, free_model, T::kIntegerBits, T::kFractionBits,
+                                       kEventLevels);
+      if (!result.ok()) return result;
+      OscillatorParams contact = seat;
+      contact.stiffness_n_per_m += stops.stiffness_n_per_m;
+      contact.damping_ns_per_m += stops.damping_ns_per_m;
+      const ConfigResult in_contact = check_fixed_point_scene(
+          contact, contact_model, T::kIntegerBits, T::kFractionBits, kEventLevels);
+      if (!in_contact.ok()) {
+        result.status = in_contact.status;
+        result.message
+            .append(
+                "in contact with an end stop (k + end_stop_stiffness_n_per_m, "
+                "b + end_stop_damping_ns_per_m): ")
+            .append(in_contact.message.c_str());
+        return result;
+      }
+    }
     for (int l = 0; l < kMapLevels; ++l) {
       maps_[0][l] = StepMap<T>::from_double(free_model.maps[l]);
       maps_[1][l] = StepMap<T>::from_double(contact_model.maps[l]);
@@ -123,10 +145,15 @@ class EndStopOscillator {
                              seat.stiffness_n_per_m + stops.stiffness_n_per_m};
     const double damp[2] = {seat.damping_ns_per_m, seat.damping_ns_per_m + stops.damping_ns_per_m};
     for (int mode = 0; mode < 2; ++mode) {
-      taylor_[mode].order = taylor_order(tick_s, stiff[mode] / m, damp[mode] / m);
-      fill_taylor_coefficients(taylor_[mode], tick_s, stiff[mode] / m, damp[mode] / m);
+      stiffness_over_mass_[mode] = S::from_double(stiff[mode] / m);
+      damping_over_mass_[mode] = S::from_double(damp[mode] / m);
+      if constexpr (S::kTaylorEventSearch) {
+        taylor_[mode].order = taylor_order(tick_s, stiff[mode] / m, damp[mode] / m);
+        fill_taylor_coefficients(taylor_[mode], tick_s, stiff[mode] / m, damp[mode] / m);
+      }
     }
     reset(T(0), T(0), T(0));
+    if constexpr (S::kTracksSaturation) (void)S::take_saturation();  // the run starts clear
     return result;
   }
 
@@ -137,7 +164,11 @@ class EndStopOscillator {
   }
 
   // Advances one sample: from the previous input a_u[n-1] to a_u_next = a_u[n].
-  StepOutput<T> step(T a_u_next) noexcept { return step_unchecked<false>(a_u_next, T(0)); }
+  StepOutput<T> step(T a_u_next) noexcept {
+    const StepOutput<T> out = step_unchecked<false>(a_u_next, T(0));
+    count_saturation();
+    return out;
+  }
   // With the actuator force f_a_n (N, on the seat, upward positive) held over the step: the
   // step's input becomes a_u - f_a/m (every mode's map unchanged, exact stays exact), F_L = f_a -
   // (m a_u + k x_r + F_stop), and the outputs are those of a_u with f_a (actuated_step_output).
@@ -147,10 +178,19 @@ class EndStopOscillator {
       f_a_n = T(0);
       ++counters_.rejected_inputs;
     }
-    return step_unchecked<true>(a_u_next, inv_mass_ * f_a_n);
+    const StepOutput<T> out = step_unchecked<true>(a_u_next, inv_mass_ * f_a_n);
+    count_saturation();
+    return out;
   }
 
  private:
+  void count_saturation() noexcept {
+    if constexpr (S::kTracksSaturation) {
+      // Fixed point: every operation of this step that saturated set the sticky flag.
+      if (S::take_saturation()) ++counters_.saturated_steps;
+    }
+  }
+
   // a_u_shifted = a_u0 - f_a0/m decides the initial mode; the next step starts from a_u0.
   void reset_shifted(T x0_m, T v0_m_per_s, T a_u0, T a_u_shifted) noexcept {
     x_ = x0_m;
@@ -254,6 +294,10 @@ class EndStopOscillator {
   std::uint64_t event_budget_exhausted() const noexcept { return counters_.event_budget_exhausted; }
   std::uint64_t rejected_inputs() const noexcept { return counters_.rejected_inputs; }
   std::uint64_t state_resets() const noexcept { return counters_.state_resets; }
+  // Fixed point: steps in which an operation saturated (always 0 for float and double); see
+  // Oscillator::saturated_steps().
+  std::uint64_t saturated_steps() const noexcept { return counters_.saturated_steps; }
+  bool saturated() const noexcept { return counters_.saturated_steps != 0; }
   // The output at the current state with the last input (row 0 of a run, as Oscillator's).
   StepOutput<T> current() const noexcept { return output(a_prev_, stuck() ? T(1) : T(0), 0); }
   // The same with the actuator force f_a acting on that state.
@@ -396,6 +440,10 @@ class EndStopOscillator {
   bool break_away(const Input& in, Position& pos, T& stuck_fraction) noexcept;
   Boundary move_to_mode_end(const Input& in, Position& pos, bool detect) noexcept;
   Boundary within_tick(const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept;
+  Boundary within_tick_taylor(const Input& in, Position& pos, T& x, T& v,
+                              bool detect) const noexcept;
+  Boundary within_tick_interpolated(const Input& in, Position& pos, T& x, T& v,
+                                    bool detect) const noexcept;
   unsigned first_tick_leaving_mode(const Input& in, unsigned lo, unsigned hi, T& x, T& v, T& x_hi,
                                    T& v_hi) const noexcept;
   void enter_mode_at(const Input& in, const Position& pos, Boundary boundary,
@@ -446,6 +494,7 @@ class EndStopOscillator {
   T kinetic_n_{}, static_n_{};
   FrictionCoefficients<T> friction_{};  // Stribeck: the law's coefficients
   T dt_s_{}, tick_fraction_{}, tick_s_{};
+  T stiffness_over_mass_[2]{}, damping_over_mass_[2]{};  // [free, contact]: (k + k_s c)/m, ...
   T x_{}, v_{}, a_prev_{}, direction_{};
   T acceleration_{};  // v_r' at the current state (0 while stuck)
   T held_force_{};    // Stribeck: the friction held over the current piece of motion

@@ -33,8 +33,12 @@ struct History {
   std::uint64_t contacts = 0, budget_exhausted = 0, saturated = 0, resets = 0;
 };
 
-double to_double(double v) { return v; }
-double to_double(Fixed v) { return v.to_double(); }
+double to_double(double v) {
+  return v;
+}
+double to_double(Fixed v) {
+  return v.to_double();
+}
 
 template <typename T, typename Model>
 History run_model(Model& model, const std::vector<double>& a_u) {

@@ -38,7 +38,7 @@ TEST_GROUP(EndStopScenes) {
   }
   test::CliRun simulate(std::vector<std::string> extra, const std::string& output) {
     std::vector<std::string> args = {"simulate", "--scene", end_stop_scene(), "--input", hard,
-                                     "--output", output,    "--repetitions", "1"};
+                                     "--output", output,    "--repetitions",  "1"};
     args.insert(args.end(), extra.begin(), extra.end());
     return test::run_stickslip(args);
   }

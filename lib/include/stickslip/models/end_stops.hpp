@@ -25,6 +25,10 @@
 // and their refinement in tests/host/test_end_stop_stribeck.cpp). Out of reach of the stops the
 // trajectory is the plain Oscillator<T, StribeckStickSlip>'s (exact integrator) to rounding.
 //
+// Fixed point (Q23.40; no friction or Coulomb): configure() checks the seat free and in contact
+// for the format; inside a tick a second-order step and linear interpolation stand in for the
+// Taylor polynomial (within_tick_interpolated), and saturated steps are counted.
+//
 // Common path (no event): one affine map and a few compares, like Oscillator's.
 #pragma once
 

@@ -195,13 +195,17 @@ TEST(EndStopFixedPoint, ContactFollowsTheDoubleModelWithinTheFixedPointTargets) 
 }
 
 // A scene the format cannot hold in contact is refused by configure(), naming the stop's
-// parameter: a stop of 1e9 N/m makes k + k_s = 1e9 N/m, beyond Q23.40's range for the spring.
+// parameter: a stop of 1e7 N/m (which double takes: omega0 dt = 0.34 in contact) makes k + k_s
+// beyond Q23.40's range with its headroom (2^21 = 2.1e6).
 TEST(EndStopFixedPoint, ConfigureRefusesAStopTheFormatCannotHold) {
   const OscillatorParams p = seat(FrictionModel::stick_slip, 504.0, 25.0, 30.0);
   EndStopParams s = stops(0.05, 2.0e3);
-  s.stiffness_n_per_m = 1e9;
+  s.stiffness_n_per_m = 1e7;
+  EndStopOscillator<double, CoulombStickSlip> in_double;
+  CHECK_TRUE(in_double.configure(p, s).ok());
   EndStopOscillator<Fixed, CoulombStickSlip> model;
   const ConfigResult refused = model.configure(p, s);
   CHECK_FALSE(refused.ok());
   STRCMP_CONTAINS("end_stop_stiffness_n_per_m", refused.message.c_str());
+  STRCMP_CONTAINS("Q23.40", refused.message.c_str());
 }

@@ -253,7 +253,9 @@ TEST(EndStopStribeck, FloatFollowsDoubleInContact) {
   print("float vs double, stribeck in contact", d);
   CHECK_EQUAL(want.contacts, model.contacts());
   CHECK_EQUAL(0u, model.event_budget_exhausted());
-  CHECK(d.a_x <= 1e-4);
-  CHECK(d.t_ax <= 1e-5);
-  CHECK(d.p <= 1e-5);
+  // Measured a_x 2.1e-6 RMS, T_ax 9.7e-8, p 8.2e-9 (float's epsilon 6e-8, grown through the
+  // contacts and sticks of 10 s).
+  CHECK(d.a_x <= 1e-5);
+  CHECK(d.t_ax <= 1e-6);
+  CHECK(d.p <= 1e-7);
 }

@@ -3,7 +3,8 @@
 // piecewise right-hand side, restarted at every sample and every event; contact, release and
 // v_r = 0 found by scanning the dense output and bisecting it, break-away by bisection on
 // |F_L| = F_fs - no closed form, no Newton, no shared code; with an actuator force, its f_a/m
-// enters the right-hand side as written (held over each interval). Worst errors are printed with
+// enters the right-hand side as written (held over each interval); Stribeck friction as its
+// formula, F_f = (F_fk + (F_fs - F_fk) exp(-(v_r/v_S)^2)) d. Worst errors are printed with
 // STICKSLIP_TEST_MARGINS=1.
 #include <algorithm>
 #include <array>
@@ -56,7 +57,8 @@ void land(const System& system, const State& from, double t0, double t1, State& 
 // the state there is integrated again from the start of its step.
 Solution dopri5_solution(const OscillatorParams& p, const EndStopParams& s,
                          const std::vector<double>& a_u, const std::vector<double>* f_a = nullptr) {
-  const bool sticking = p.model == FrictionModel::stick_slip;
+  const bool stribeck = p.model == FrictionModel::stribeck;
+  const bool sticking = p.model == FrictionModel::stick_slip || stribeck;
   const double dt = p.dt_s, m = p.mass_kg, k = p.stiffness_n_per_m, b = p.damping_ns_per_m;
   const double fk = sticking ? p.kinetic_friction_n : 0.0,
                fs = sticking ? p.static_friction_n : 0.0;
@@ -72,6 +74,13 @@ Solution dopri5_solution(const OscillatorParams& p, const EndStopParams& s,
     return region == 0 ? 0.0 : ks * (x - region * travel) + bs * v;
   };
   const auto force = [&](std::size_t n) { return f_a == nullptr ? 0.0 : (*f_a)[n]; };
+  // The slip friction in direction dir at velocity v.
+  const auto friction = [&](double v, double dir) {
+    if (!stribeck) return fk * dir;
+    const double r = std::fabs(v) / p.stribeck_velocity_m_per_s;
+    // exp(-400) is nothing against F_fk; beyond it exp() would only raise underflow.
+    return (fk + (r > 20.0 ? 0.0 : (fs - fk) * std::exp(-r * r))) * dir;
+  };
   // F_L = f_a - (m a_u + k x_r + F_stop), with the force of the interval in hand.
   double f_now = force(0);
   const auto limit_at = [&](double a_u_now) {
@@ -83,7 +92,8 @@ Solution dopri5_solution(const OscillatorParams& p, const EndStopParams& s,
     out.x[n] = y[0];
     out.stuck[n] = d == 0.0 ? 1 : 0;
     out.a_x[n] =
-        d == 0.0 ? a_u[n] : (force(n) - (k * y[0] + b * y[1] + stop(y[0], y[1], c) + fk * d)) / m;
+        d == 0.0 ? a_u[n]
+                 : (force(n) - (k * y[0] + b * y[1] + stop(y[0], y[1], c) + friction(y[1], d))) / m;
   };
   record(0);
   double h = dt / 8.0;
@@ -121,7 +131,8 @@ Solution dopri5_solution(const OscillatorParams& p, const EndStopParams& s,
       const auto system = [&, region, dir](const State& z, State& dz, double at) {
         dz[0] = z[1];
         dz[1] =
-            (f_now - (k * z[0] + b * z[1] + stop(z[0], z[1], region) + fk * dir)) / m - input(at);
+            (f_now - (k * z[0] + b * z[1] + stop(z[0], z[1], region) + friction(z[1], dir))) / m -
+            input(at);
       };
       // The mode ends where the region changes or (sticking) v_r d reaches 0.
       const auto ends = [&](const State& z) {
@@ -316,6 +327,47 @@ TEST(ReferenceEndStops, ActuatedSeatInContactMatchesDormandPrince) {
   }
 }
 
+// Stribeck (v_S = 1 cm/s): the solver's adaptive (Cash-Karp) slip phases with the region's
+// stop force, against Dormand-Prince on the same right-hand side; damped and undamped.
+TEST(ReferenceEndStops, StribeckSeatInContactMatchesDormandPrince) {
+  const std::vector<double> a_u = wideband(2.0, 4.0, 11);
+  for (const double damping : {504.0, 0.0}) {
+    OscillatorParams p = seat(FrictionModel::stribeck, damping, 25.0, 30.0);
+    p.stribeck_velocity_m_per_s = 0.01;
+    const EndStopParams s = stops(half_free_stroke(p, a_u), damping > 0 ? 2.0e3 : 0.0);
+    const ReferenceTrace r = solve_reference(p, s, a_u);
+    CHECK(r.events > 10);
+    check(r, dopri5_solution(p, s, a_u), damping > 0 ? "stribeck, damped" : "stribeck, undamped");
+  }
+}
+
+// A flat Stribeck law (F_fs = F_fk) is stick-slip: the adaptive path with the stops must
+// reproduce the closed-form path with them.
+TEST(ReferenceEndStops, FlatStribeckWithStopsIsStickSlipWithStops) {
+  const std::vector<double> a_u = wideband(2.0, 4.0, 11);
+  OscillatorParams p = seat(FrictionModel::stick_slip, 504.0, 25.0, 25.0);
+  const EndStopParams s = stops(half_free_stroke(p, a_u), 2.0e3);
+  const ReferenceTrace closed = solve_reference(p, s, a_u);
+  p.model = FrictionModel::stribeck;
+  const ReferenceTrace integrated = solve_reference(p, s, a_u);
+  CHECK(closed.contacts > 10);
+  CHECK(closed.events > 10);
+  CHECK_EQUAL(closed.contacts, integrated.contacts);
+  CHECK_EQUAL(closed.events, integrated.events);
+  Solution as_solution;
+  as_solution.x = integrated.x_r_m;
+  as_solution.a_x = integrated.a_x_m_per_s2;
+  as_solution.stuck = integrated.stuck;
+  as_solution.stuck_time_s = integrated.stuck_time_s;
+  as_solution.contacts = integrated.contacts;
+  const Agreement g = compare(closed, as_solution, 1e-3);
+  test::note_margin("flat stribeck (adaptive) vs stick-slip (closed form), stops", g.x, kAgreement);
+  CHECK(g.x < kAgreement);
+  CHECK(g.a_x < kAgreement);
+  CHECK(g.p < kAgreement);
+  CHECK_EQUAL(0u, g.stuck_mismatches);
+}
+
 // Out of reach the stops change nothing: the same trace as the reference without them.
 TEST(ReferenceEndStops, StopsOutOfReachGiveTheReferenceWithoutStops) {
   const std::vector<double> a_u = wideband(0.35, 20.0, 3);
@@ -340,9 +392,9 @@ TEST(ReferenceEndStops, StopsOutOfReachGiveTheReferenceWithoutStops) {
   }
 }
 
-TEST(ReferenceEndStops, RefusesLawsWithoutAClosedFormAndBadStops) {
+TEST(ReferenceEndStops, RefusesTheSmoothLawsAndBadStops) {
   const std::vector<double> a_u(10, 0.0);
-  OscillatorParams p = seat(FrictionModel::stribeck, 504.0, 25.0, 30.0);
+  OscillatorParams p = seat(FrictionModel::smooth, 504.0, 25.0, 30.0);
   CHECK_THROWS(ConfigurationError, solve_reference(p, stops(0.01, 0.0), a_u));
   p = seat(FrictionModel::stick_slip, 504.0, 25.0, 30.0);
   CHECK_THROWS(ConfigurationError, solve_reference(p, stops(-0.01, 0.0), a_u));

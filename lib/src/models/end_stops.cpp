@@ -57,5 +57,7 @@ template class EndStopOscillator<double, NoFriction>;
 template class EndStopOscillator<double, CoulombStickSlip>;
 template class EndStopOscillator<float, NoFriction>;
 template class EndStopOscillator<float, CoulombStickSlip>;
+template class EndStopOscillator<double, StribeckStickSlip>;
+template class EndStopOscillator<float, StribeckStickSlip>;
 
 }  // namespace stickslip

@@ -213,9 +213,11 @@ std::unique_ptr<SeatModel> make_fixed_model(const SimulationSetup& setup) {
 
 template <typename T>
 std::unique_ptr<SeatModel> make_model(const SimulationSetup& setup) {
-  if (setup.effects & kEndStops) {  // the scene's model (models/scene.hpp): none or stick-slip
+  if (setup.effects & kEndStops) {  // the scene's model (models/scene.hpp)
     if (setup.params.model == FrictionModel::linear)
       return std::make_unique<SeatModelFor<T, NoFriction, true>>(setup);
+    if (setup.params.model == FrictionModel::stribeck)
+      return std::make_unique<SeatModelFor<T, StribeckStickSlip, true>>(setup);
     return std::make_unique<SeatModelFor<T, CoulombStickSlip, true>>(setup);
   }
   // The same law for the same parameters as with_oscillator() (dispatch.hpp) chooses.

@@ -181,7 +181,11 @@ ResolvedModel ModelOptions::resolve(const CLI::App& command, SimulationSetup& se
   if (integrator_.empty()) {
     // The scene's integrator stands while the scene's model does; else the model's default.
     integrator_defaulted = !scene || model_given;
-    if (integrator_defaulted) p.integrator = default_integrator(p.model);
+    // The seat with end stops runs the exact integrator only (models/end_stops.hpp), whatever
+    // the model's default elsewhere (rk4 for stribeck).
+    const bool end_stops = scene && (resolved.scene->effects & kEndStops) != 0;
+    if (integrator_defaulted)
+      p.integrator = end_stops ? Integrator::exact : default_integrator(p.model);
   } else if (choices_.reference_integrator && integrator_ == "reference") {
     setup.reference = true;  // host-only solver; the core's integrator is not used
     p.integrator = default_integrator(p.model);

@@ -216,9 +216,9 @@ void read_end_stops(const std::string& path, const toml::table& root,
          "effect 'end_stops' needs an [end_stops] table (travel_m, stiffness_n_per_m)");
   }
   if ((scene.effects & kEndStops) && p.model != FrictionModel::linear &&
-      p.model != FrictionModel::stick_slip) {
+      p.model != FrictionModel::stick_slip && p.model != FrictionModel::stribeck) {
     fail(path, effects_node,
-         std::string("end stops run with no friction or with stick-slip, not '") +
+         std::string("end stops run with no friction, stick-slip or stribeck, not '") +
              model_name(p.model) + "'");
   }
   if (scene.effects & kEndStops) p.integrator = Integrator::exact;  // the end-stop model's only one

@@ -8,6 +8,13 @@
 //     v_r = 0 instant, so x_r is monotone there and a sign change of d (x_r - boundary) between the
 //     phase start and that instant brackets the one crossing (safeguarded Newton, slope v_r);
 //   - |F_L| = F_fs (break-away): F_L is linear in time while stuck, solved for directly.
+// Stribeck: a slip phase has no closed form. It is integrated by Boost.Odeint's adaptive Cash-Karp
+// 5(4) (tolerances 1e-15 relative, 1e-18 absolute, as the solver without stops does) in the
+// region's right-hand side, restarted at every sample and event; inside an accepted step the state
+// at any instant is one step of that length from the step's start, on which the same bracketing
+// searches locate v_r = 0 (find_crossing, with the jerk including dF_f/dv) and |x_r| = travel.
+// A step never spans more than a quarter period of its region, and near v_r = 0 it changes v_r by
+// at most a tenth of v_S (the friction drops from F_fs to F_fk over a few v_S).
 // An actuator force held over a sample interval shifts that interval's input by -f_a/m (the
 // closed forms are unchanged); F_L may then jump at the interval's start, where the seat leaves
 // at once if it exceeds F_fs.
@@ -17,6 +24,9 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <boost/numeric/odeint/stepper/controlled_runge_kutta.hpp>
+#include <boost/numeric/odeint/stepper/generation.hpp>
+#include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
 
 #include "reference_closed_form.hpp"
 #include "stickslip/host/error.hpp"
@@ -26,6 +36,25 @@
 namespace stickslip::host {
 namespace reference {
 namespace {
+
+namespace odeint = boost::numeric::odeint;
+using OdeState = std::array<double, 2>;  // x_r, v_r
+using CashKarp54 = odeint::runge_kutta_cash_karp54<OdeState>;
+using ControlledCashKarp54 = odeint::controlled_runge_kutta<CashKarp54>;
+// The adaptive integration's tolerances and its step rule near v_r = 0 (those of
+// reference_event_driver.hpp, for the same reasons).
+constexpr double kOdeRelativeTolerance = 1e-15;
+constexpr double kOdeAbsoluteTolerance = 1e-18;  // m and m/s
+constexpr int kMaxRejectedSteps = 200;
+constexpr double kVelocityBand = 20.0;
+constexpr double kVelocityResolution = 0.1;
+
+// Boost's steppers keep std::array temporaries that their default constructor leaves
+// uninitialised (see reference_event_driver.hpp).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 class StopSolver {
  public:
@@ -42,8 +71,22 @@ class StopSolver {
         travel_(wide(stops.travel_m)),
         dt_(wide(p.dt_s)),
         free_(mass_, stiffness_, damping_),
-        contact_(mass_, stiffness_ + stop_stiffness_, damping_ + stop_damping_) {
+        contact_(mass_, stiffness_ + stop_stiffness_, damping_ + stop_damping_),
+        controlled_(
+            odeint::make_controlled(kOdeAbsoluteTolerance, kOdeRelativeTolerance, CashKarp54())) {
     friction_ = p.model != FrictionModel::linear;
+    stribeck_ = p.model == FrictionModel::stribeck;
+    if (stribeck_) {
+      inv_stribeck_velocity_ = 1.0 / p.stribeck_velocity_m_per_s;
+      excess_ = p.static_friction_n - p.kinetic_friction_n;
+      // A step stays inside a quarter period of the stiffer (contact) region.
+      max_ode_step_ = p.dt_s;
+      const double quarter =
+          0.5 / std::sqrt((p.stiffness_n_per_m + stops.stiffness_n_per_m) / p.mass_kg);
+      if (quarter < max_ode_step_) max_ode_step_ = quarter;
+      ode_step_ = 1e-2 * max_ode_step_;
+      ode_tolerance_ = 1e-15L * dt_;
+    }
     kinetic_ = friction_ ? wide(p.kinetic_friction_n) : 0.0L;
     static_ = p.model == FrictionModel::signum ? kinetic_
                                                : (friction_ ? wide(p.static_friction_n) : 0.0L);
@@ -109,7 +152,8 @@ class StopSolver {
       trace.stuck[n] = 1;
       return;
     }
-    const Real force = kinetic_ * direction_;
+    const Real force =
+        stribeck_ ? wide(slip_friction(narrow(v_), narrow(direction_))) : kinetic_ * direction_;
     const Real stop = region_ == 0 ? 0.0L : stop_spring(x_, region_) + stop_damping_ * v_;
     trace.friction_n[n] = narrow(force);
     trace.a_x_m_per_s2[n] =
@@ -174,6 +218,7 @@ class StopSolver {
   // Moving from tau in direction d in the current region: to the end of the sample, or to the
   // first boundary (v_r = 0 or |x_r| = travel), whichever comes first. Returns the instant.
   Real move_until(Real a0, Real a1, Real tau, int& in_sample) {
+    if (stribeck_) return slip_ode_until(a0, a1, tau, in_sample);
     const Real d = direction_;
     const FreeModes& modes = region_ == 0 ? free_ : contact_;
     const Real offset = (kinetic_ * d - stop_stiffness_ * travel_ * region_) / mass_;
@@ -233,6 +278,159 @@ class StopSolver {
     return dt_;
   }
 
+  // --- Stribeck slip (adaptive integration) ---------------------------------------------------
+  // exp(-(v/v_S)^2), 0 beyond 20 v_S and 1 below 1e-100 v_S (no intermediate underflows).
+  double stribeck_shape(double v) const {
+    const double r = std::fabs(v) * inv_stribeck_velocity_;
+    if (r > 20.0) return 0.0;
+    if (r < 1e-100) return 1.0;
+    return std::exp(-r * r);
+  }
+  double slip_friction(double v, double d) const {
+    return d * (p_.kinetic_friction_n + excess_ * stribeck_shape(v));
+  }
+  double friction_slope(double v, double d) const {
+    const double r = std::fabs(v) * inv_stribeck_velocity_;
+    if (r > 20.0 || r < 1e-100) return 0.0;
+    return -d * excess_ * 2.0 * v * inv_stribeck_velocity_ * inv_stribeck_velocity_ *
+           std::exp(-r * r);
+  }
+  // The right-hand side in region c, slipping in direction d, with the input a0 + slope t.
+  struct OdeSystem {
+    const StopSolver* solver;
+    double a0, a_slope, direction;
+    int region;
+    void operator()(const OdeState& s, OdeState& ds, double t) const {
+      ds[0] = s[1];
+      ds[1] = solver->relative_acceleration(s[0], s[1], direction, region, a0 + a_slope * t);
+    }
+  };
+  double relative_acceleration(double x, double v, double d, int c, double a_u) const {
+    const double stop = c == 0 ? 0.0 : stops_stiffness() * (x - c * travel()) + stops_damping() * v;
+    return -(p_.stiffness_n_per_m * x + p_.damping_ns_per_m * v + stop + slip_friction(v, d)) /
+               p_.mass_kg -
+           a_u;
+  }
+  double stops_stiffness() const { return narrow(stop_stiffness_); }
+  double stops_damping() const { return narrow(stop_damping_); }
+  double travel() const { return narrow(travel_); }
+  Kinematics kinematics(const OdeSystem& system, const OdeState& s, double t) const {
+    const double a = relative_acceleration(s[0], s[1], system.direction, system.region,
+                                           system.a0 + system.a_slope * t);
+    const double k = p_.stiffness_n_per_m + (system.region != 0 ? stops_stiffness() : 0.0);
+    const double b = p_.damping_ns_per_m + (system.region != 0 ? stops_damping() : 0.0);
+    const double jerk =
+        -(k * s[1] + (b + friction_slope(s[1], system.direction)) * a) / p_.mass_kg -
+        system.a_slope;
+    return {wide(s[0]), wide(s[1]), wide(a), wide(jerk)};
+  }
+
+  // One accepted adaptive step from t (capped at t_end); returns the new time.
+  double ode_step(const OdeSystem& system, const OdeState& from, double t, double t_end,
+                  OdeState& to) {
+    const double band = kVelocityBand * p_.stribeck_velocity_m_per_s;
+    const double resolved = kVelocityResolution * p_.stribeck_velocity_m_per_s;
+    for (int rejected = 0; rejected <= kMaxRejectedSteps; ++rejected) {
+      double h = ode_step_ < max_ode_step_ ? ode_step_ : max_ode_step_;
+      bool last = false;
+      if (t + h >= t_end - 1e-12 * p_.dt_s) {
+        h = t_end - t;
+        last = true;
+      }
+      double t_new = t, h_next = h;
+      if (controlled_.try_step(system, from, t_new, to, h_next) == odeint::success) {
+        const double low = std::min(from[1], to[1]), high = std::max(from[1], to[1]);
+        if (excess_ > 0.0 && low < band && high > -band && high - low > resolved) {
+          ode_step_ = h * std::max(0.1, 0.9 * resolved / (high - low));
+          continue;
+        }
+        if (excess_ > 0.0 && low < band && high > -band && h_next > 2.0 * h) h_next = 2.0 * h;
+        if (!last || h_next < ode_step_) ode_step_ = h_next;
+        return last ? t_end : t_new;
+      }
+      ode_step_ = h_next;
+    }
+    throw HostError(fmt::format(
+        "reference solver: the adaptive integrator cannot meet its tolerance in the sample "
+        "interval ending at sample {} (step {} s)",
+        sample_, ode_step_));
+  }
+
+  // Stribeck slip from tau in direction d in the current region, adaptively: to the end of the
+  // sample or to the first boundary (v_r = 0, |x_r| = travel). Returns the instant.
+  Real slip_ode_until(Real a0, Real a1, Real tau, int& in_sample) {
+    const Real d = direction_;
+    const double t0 = narrow(tau), dt = p_.dt_s;
+    const OdeSystem system{this, narrow(input_at(a0, a1, tau)), narrow((a1 - a0) / dt_), narrow(d),
+                           region_};
+    bool bounded = false;
+    Real boundary = 0;
+    if (region_ == 0) {
+      bounded = true;
+      boundary = d * travel_;
+    } else if (d == -region_) {
+      bounded = true;
+      boundary = region_ * travel_;
+    }
+    // Leaving rest the friction falls from F_fs within |v_r| ~ v_S: start small.
+    if (v_ == 0 && ode_step_ > 1e-6 * dt) ode_step_ = 1e-6 * dt;
+    double t = 0.0;  // time since tau
+    const double length = dt - t0;
+    OdeState state{narrow(x_), narrow(v_)};
+    Kinematics ka = kinematics(system, state, t);
+    while (t < length) {
+      OdeState next{};
+      const double t_next = ode_step(system, state, t, length, next);
+      const Kinematics kb = kinematics(system, next, t_next);
+      const auto motion = [&, t](Real offset) {
+        if (offset <= 0) return kinematics(system, state, t);
+        OdeState out{};
+        controlled_.stepper().do_step(system, state, t, out, static_cast<double>(offset));
+        return kinematics(system, out, t + static_cast<double>(offset));
+      };
+      const Crossing turn = find_crossing(motion, d, 0, ka, wide(t_next - t), kb, ode_tolerance_);
+      const Real te = turn.found ? turn.tau : wide(t_next - t);
+      if (bounded && d * (motion(te).x - boundary) >= 0) {
+        const auto ahead = [&](Real u) {
+          const Kinematics k = motion(u);
+          return std::array<Real, 2>{d * (boundary - k.x), -d * k.v};
+        };
+        const Real u_cross =
+            d * (ka.x - boundary) >= 0 ? Real(0) : solve_descending(ahead, 0, te, ode_tolerance_);
+        v_ = motion(u_cross).v;
+        x_ = boundary;
+        if (d * v_ < 0) v_ = 0;
+        if (region_ == 0) {
+          region_ = d > 0 ? 1 : -1;
+          ++contacts_;
+        } else {
+          region_ = 0;
+        }
+        count_event(in_sample);
+        const Real at = tau + wide(t) + u_cross;
+        return at < dt_ ? at : dt_;
+      }
+      if (turn.found) {
+        x_ = motion(turn.tau).x;
+        v_ = 0;
+        count_event(in_sample);
+        const Real at = tau + wide(t) + turn.tau;
+        decide_at_rest(input_at(a0, a1, at < dt_ ? at : dt_), d, turn.degenerate);
+        return at < dt_ ? at : dt_;
+      }
+      state = next;
+      ka = kb;
+      if (d * ka.v < 0) {
+        state[1] = 0.0;
+        ka.v = 0;
+      }
+      t = t_next;
+    }
+    x_ = wide(state[0]);
+    v_ = wide(state[1]);
+    return dt_;
+  }
+
   // At a v_r = 0 instant after moving in direction d: stick if friction holds the load, else
   // move off against it. The frictionless seat turns (a turn is no friction event).
   void decide_at_rest(Real a_u, Real d, bool degenerate) {
@@ -250,14 +448,22 @@ class StopSolver {
   const std::vector<double>* f_a_;  // null: no force
   Real mass_, stiffness_, damping_, stop_stiffness_, stop_damping_, travel_, dt_;
   FreeModes free_, contact_;
-  bool friction_ = false;
+  bool friction_ = false, stribeck_ = false;
   Real kinetic_ = 0, static_ = 0, tolerance_ = 0;
+  // Stribeck: the law and the adaptive integrator's state.
+  double inv_stribeck_velocity_ = 0.0, excess_ = 0.0;
+  double max_ode_step_ = 0.0, ode_step_ = 0.0;
+  Real ode_tolerance_ = 0;
+  ControlledCashKarp54 controlled_;
   Real x_ = 0, v_ = 0, direction_ = 0;
   int region_ = 0;
   std::size_t sample_ = 0;
   std::uint64_t events_ = 0, contacts_ = 0, whole_samples_stuck_ = 0;
   Real partial_stuck_s_ = 0;
 };
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 
 }  // namespace
 }  // namespace reference
@@ -276,10 +482,10 @@ ReferenceTrace solve_reference_actuated(const OscillatorParams& params, const En
   DiscreteModel free_model, contact_model;  // the validation only
   const ConfigResult configured = check_end_stops(checked, stops, free_model, contact_model);
   if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
-  if (params.model == FrictionModel::stribeck || params.model == FrictionModel::smooth) {
+  if (params.model == FrictionModel::smooth) {
     throw ConfigurationError(
-        "reference solver: end stops are solved for the linear, signum and stick-slip laws (the "
-        "closed form per region); stribeck and smooth are not supported with end stops");
+        "reference solver: end stops are solved for the linear, signum, stick-slip and stribeck "
+        "laws; smooth is not supported with end stops");
   }
   if (a_u.empty()) throw HostError("reference solver: the input has no samples");
   for (std::size_t n = 0; n < a_u.size(); ++n) {

@@ -260,6 +260,21 @@ SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
                                         const std::vector<double>& a_u,
                                         SimulationTrace<double>& trace) {
   prepare_fixed_point_run<Fixed>(setup, a_u.size(), trace);
+  if (setup.effects & kEndStops) {
+    // The seat with end stops in Q23.40: its configure() checks the seat free and in contact.
+    const SceneParams scene{setup.effects, setup.params, setup.stops};
+    const auto run = [&](auto& model) {
+      const ConfigResult configured = configure_for_scene(model, scene);
+      if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+      return run_fixed_point<Fixed>(setup, a_u, trace, model, SceneUnits{});  // SI
+    };
+    if (setup.params.model == FrictionModel::linear) {
+      EndStopOscillator<Fixed, NoFriction> model;
+      return run(model);
+    }
+    EndStopOscillator<Fixed, CoulombStickSlip> model;
+    return run(model);
+  }
   return with_fixed_oscillator(setup.params, [&](auto& oscillator) {
     const ConfigResult configured = oscillator.configure(setup.params);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());

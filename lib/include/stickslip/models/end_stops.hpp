@@ -1,7 +1,9 @@
 // The seat with end stops: the stroke is free within +-travel; beyond it a stiff, damped stop acts
 // (Kelvin-Voigt: F_stop = k_s (x_r - travel sgn x_r) + b_s v_r while |x_r| > travel). Friction:
-// none, or Coulomb stick-slip (F_fs >= F_fk). Exact discretisation only. An actuator force f_a
-// held over a step (step(a_u, f_a), as Oscillator's) is a shift of that step's input by -f_a/m.
+// none, Coulomb stick-slip (F_fs >= F_fk) or Gaussian Stribeck (the same stick logic; slipping,
+// F_f = (F_fk + (F_fs - F_fk) exp(-(v_r/v_S)^2)) sgn v_r). Exact discretisation only. An actuator
+// force f_a held over a step (step(a_u, f_a), as Oscillator's) is a shift of that step's input by
+// -f_a/m.
 //
 // Between events the motion is linear in each mode (free or in contact, stuck or slipping one
 // way), so it is advanced by that mode's precomputed exact affine maps (first-order-hold input),
@@ -16,6 +18,17 @@
 // double crossing of v_r = 0 shorter than a sixteenth of the step may go unseen; it moves the
 // state by no more than that short interval can.
 //
+// Stribeck: the slip friction depends on v_r, so a slip phase has no closed form. As Oscillator's
+// exact integrator does, the friction is held over each piece of motion at its value at the
+// piece's start (the step's start, or the event that began the piece: break-away, reversal,
+// contact, release) and the piece is then exact for that force: first order in dt (the figures
+// and their refinement in tests/host/test_end_stop_stribeck.cpp). Out of reach of the stops the
+// trajectory is the plain Oscillator<T, StribeckStickSlip>'s (exact integrator) to rounding.
+//
+// Fixed point (Q23.40; no friction or Coulomb): configure() checks the seat free and in contact
+// for the format; inside a tick a second-order step and linear interpolation stand in for the
+// Taylor polynomial (within_tick_interpolated), and saturated steps are counted.
+//
 // Common path (no event): one affine map and a few compares, like Oscillator's.
 #pragma once
 
@@ -28,6 +41,7 @@
 #include "stickslip/core/status.hpp"
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/integrators/discretisation.hpp"
+#include "stickslip/integrators/fixed_point_scaling.hpp"
 #include "stickslip/integrators/step_map.hpp"
 #include "stickslip/integrators/taylor_segment.hpp"
 // Oscillator: the scene's seat without stops, which users of the stops compare against.
@@ -57,10 +71,13 @@ struct StopContacts {
 
 template <typename T, typename Law>
 class EndStopOscillator {
-  static_assert(std::is_same_v<Law, NoFriction> || std::is_same_v<Law, CoulombStickSlip>,
-                "end stops are modelled with no friction or with Coulomb stick-slip");
+  static_assert(std::is_same_v<Law, NoFriction> || std::is_same_v<Law, CoulombStickSlip> ||
+                    std::is_same_v<Law, StribeckStickSlip>,
+                "end stops are modelled with no friction, Coulomb stick-slip or Stribeck");
   using S = ScalarTraits<T>;
-  static constexpr bool kSticking = std::is_same_v<Law, CoulombStickSlip>;
+  static constexpr bool kSticking = Law::kind == LawKind::sticking;
+  // Stribeck: the slip force is held per piece of motion (held_force_), not a constant.
+  static constexpr bool kVelocityDependent = Law::velocity_dependent;
   static constexpr unsigned kTicks = kTicksPerStep;    // 2^16 ticks per step
   static constexpr unsigned kScanBlock = kTicks / 16;  // the event scan's block
   static constexpr int kBudget = kMaxEventsPerStep;
@@ -84,6 +101,27 @@ class EndStopOscillator {
           .append("'");
       return result;
     }
+    if constexpr (S::kTracksSaturation) {
+      // Fixed point: the seat's coefficients and intermediates must fit the format, free and in
+      // contact (the stiffer, more damped seat), down to the event grid's tick of dt/2^16.
+      result = check_fixed_point_scene(seat, free_model, T::kIntegerBits, T::kFractionBits,
+                                       kEventLevels);
+      if (!result.ok()) return result;
+      OscillatorParams contact = seat;
+      contact.stiffness_n_per_m += stops.stiffness_n_per_m;
+      contact.damping_ns_per_m += stops.damping_ns_per_m;
+      const ConfigResult in_contact = check_fixed_point_scene(
+          contact, contact_model, T::kIntegerBits, T::kFractionBits, kEventLevels);
+      if (!in_contact.ok()) {
+        result.status = in_contact.status;
+        result.message
+            .append(
+                "in contact with an end stop (k + end_stop_stiffness_n_per_m, "
+                "b + end_stop_damping_ns_per_m): ")
+            .append(in_contact.message.c_str());
+        return result;
+      }
+    }
     for (int l = 0; l < kMapLevels; ++l) {
       maps_[0][l] = StepMap<T>::from_double(free_model.maps[l]);
       maps_[1][l] = StepMap<T>::from_double(contact_model.maps[l]);
@@ -97,6 +135,10 @@ class EndStopOscillator {
     travel_ = S::from_double(stops.travel_m);
     kinetic_n_ = S::from_double(kSticking ? seat.kinetic_friction_n : 0.0);
     static_n_ = S::from_double(kSticking ? seat.static_friction_n : 0.0);
+    friction_.kinetic_n = kinetic_n_;
+    friction_.static_n = static_n_;
+    friction_.stribeck_excess_n = S::from_double(free_model.stribeck_excess_n);
+    friction_.inv_stribeck_velocity = S::from_double(free_model.inv_stribeck_velocity);
     dt_s_ = S::from_double(seat.dt_s);
     tick_fraction_ = S::from_double(1.0 / double(kTicks));  // a power of two
     // Inside a tick the exact motion of each mode is its Taylor polynomial, to an order whose
@@ -107,10 +149,15 @@ class EndStopOscillator {
                              seat.stiffness_n_per_m + stops.stiffness_n_per_m};
     const double damp[2] = {seat.damping_ns_per_m, seat.damping_ns_per_m + stops.damping_ns_per_m};
     for (int mode = 0; mode < 2; ++mode) {
-      taylor_[mode].order = taylor_order(tick_s, stiff[mode] / m, damp[mode] / m);
-      fill_taylor_coefficients(taylor_[mode], tick_s, stiff[mode] / m, damp[mode] / m);
+      stiffness_over_mass_[mode] = S::from_double(stiff[mode] / m);
+      damping_over_mass_[mode] = S::from_double(damp[mode] / m);
+      if constexpr (S::kTaylorEventSearch) {
+        taylor_[mode].order = taylor_order(tick_s, stiff[mode] / m, damp[mode] / m);
+        fill_taylor_coefficients(taylor_[mode], tick_s, stiff[mode] / m, damp[mode] / m);
+      }
     }
     reset(T(0), T(0), T(0));
+    if constexpr (S::kTracksSaturation) (void)S::take_saturation();  // the run starts clear
     return result;
   }
 
@@ -121,7 +168,11 @@ class EndStopOscillator {
   }
 
   // Advances one sample: from the previous input a_u[n-1] to a_u_next = a_u[n].
-  StepOutput<T> step(T a_u_next) noexcept { return step_unchecked<false>(a_u_next, T(0)); }
+  StepOutput<T> step(T a_u_next) noexcept {
+    const StepOutput<T> out = step_unchecked<false>(a_u_next, T(0));
+    count_saturation();
+    return out;
+  }
   // With the actuator force f_a_n (N, on the seat, upward positive) held over the step: the
   // step's input becomes a_u - f_a/m (every mode's map unchanged, exact stays exact), F_L = f_a -
   // (m a_u + k x_r + F_stop), and the outputs are those of a_u with f_a (actuated_step_output).
@@ -131,10 +182,19 @@ class EndStopOscillator {
       f_a_n = T(0);
       ++counters_.rejected_inputs;
     }
-    return step_unchecked<true>(a_u_next, inv_mass_ * f_a_n);
+    const StepOutput<T> out = step_unchecked<true>(a_u_next, inv_mass_ * f_a_n);
+    count_saturation();
+    return out;
   }
 
  private:
+  void count_saturation() noexcept {
+    if constexpr (S::kTracksSaturation) {
+      // Fixed point: every operation of this step that saturated set the sticky flag.
+      if (S::take_saturation()) ++counters_.saturated_steps;
+    }
+  }
+
   // a_u_shifted = a_u0 - f_a0/m decides the initial mode; the next step starts from a_u0.
   void reset_shifted(T x0_m, T v0_m_per_s, T a_u0, T a_u_shifted) noexcept {
     x_ = x0_m;
@@ -153,6 +213,7 @@ class EndStopOscillator {
     }
     contacts_ = 0;
     counters_ = SafetyCounters{};
+    refresh_force();
     acceleration_ = stuck() ? T(0) : seat_acceleration(x_, v_) - a_u_shifted;
   }
 
@@ -185,8 +246,7 @@ class EndStopOscillator {
       }
     } else {
       // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
-      const T offset =
-          inv_mass_ * (kinetic_n_ * direction_ - stop_stiffness_ * travel_ * T(contact_));
+      const T offset = inv_mass_ * (slip_force() - stop_stiffness_ * travel_ * T(contact_));
       T x = x_, v = v_;
       apply_step_map(maps_[contact_ != 0 ? 1 : 0][0], x, v, -(in.a0 + offset), -(in.a1 + offset));
       const T a_x = seat_acceleration(x, v);
@@ -197,15 +257,24 @@ class EndStopOscillator {
       if (!event_between(x_, v_, acc0, x, v, a_x - in.a1)) {
         x_ = x;
         v_ = v;
-        acceleration_ = a_x - in.a1;
         a_prev_ = a_u_next;
         out.contact = static_cast<std::int8_t>(contact_);
+        if constexpr (kVelocityDependent) {
+          // The next piece's force, from the state the step ended in (what the sample reports).
+          refresh_force();
+          const T a_x_end = seat_acceleration(x_, v_);
+          acceleration_ = a_x_end - in.a1;
+          if constexpr (kActuated) return slip_output(a_x_end + accel_offset);
+          return slip_output(a_x_end);
+        }
+        acceleration_ = a_x - in.a1;
         if constexpr (kActuated) return slip_output(a_x + accel_offset);
         return slip_output(a_x);
       }
     }
     events = search(in, stuck_fraction, out);
     guard_state();
+    refresh_force();
     a_prev_ = a_u_next;
     out.contact = static_cast<std::int8_t>(contact_);
     StepOutput<T> result = output(in.a1, stuck_fraction, events);
@@ -229,6 +298,10 @@ class EndStopOscillator {
   std::uint64_t event_budget_exhausted() const noexcept { return counters_.event_budget_exhausted; }
   std::uint64_t rejected_inputs() const noexcept { return counters_.rejected_inputs; }
   std::uint64_t state_resets() const noexcept { return counters_.state_resets; }
+  // Fixed point: steps in which an operation saturated (always 0 for float and double); see
+  // Oscillator::saturated_steps().
+  std::uint64_t saturated_steps() const noexcept { return counters_.saturated_steps; }
+  bool saturated() const noexcept { return counters_.saturated_steps != 0; }
   // The output at the current state with the last input (row 0 of a run, as Oscillator's).
   StepOutput<T> current() const noexcept { return output(a_prev_, stuck() ? T(1) : T(0), 0); }
   // The same with the actuator force f_a acting on that state.
@@ -276,11 +349,11 @@ class EndStopOscillator {
     return mass_kg_ * a_u + stiffness_ * x + stop_spring_force(x);
   }
 
-  // Advances (x, v) from tick `from` by `count` ticks in mode (contact c, direction d), as dyadic
-  // blocks (largest first): exact for the mode's linear motion with the FOH input.
-  void advance(T& x, T& v, int c, T d, unsigned from, unsigned count,
+  // Advances (x, v) from tick `from` by `count` ticks in mode (contact c, friction force_n held),
+  // as dyadic blocks (largest first): exact for the mode's linear motion with the FOH input.
+  void advance(T& x, T& v, int c, T force_n, unsigned from, unsigned count,
                const Input& in) const noexcept {
-    const T offset = inv_mass_ * (kinetic_n_ * d - stop_stiffness_ * travel_ * T(c));
+    const T offset = inv_mass_ * (force_n - stop_stiffness_ * travel_ * T(c));
     const StepMap<T>* maps = maps_[c != 0 ? 1 : 0];
     unsigned at = from;
     for (int level = 0; level < kMapLevels && count > 0; ++level) {
@@ -299,14 +372,29 @@ class EndStopOscillator {
   T seat_acceleration(T x, T v) const noexcept {
     const int c = contact_;
     const T stop = c == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(c)) + stop_damping_ * v;
-    return -(inv_mass_ * (stiffness_ * x + damping_ * v + stop + kinetic_n_ * direction_));
+    return -(inv_mass_ * (stiffness_ * x + damping_ * v + stop + slip_force()));
+  }
+  // The friction force of the current piece of motion while slipping: F_fk d (Coulomb), or the
+  // Stribeck force held from the piece's start (refresh_force()); 0 for the frictionless seat.
+  T slip_force() const noexcept {
+    if constexpr (kVelocityDependent) {
+      return held_force_;
+    } else {
+      return kinetic_n_ * direction_;
+    }
+  }
+  // Stribeck: a piece of motion starts at the current state; its force is the law's there.
+  void refresh_force() noexcept {
+    if constexpr (kVelocityDependent) {
+      held_force_ = direction_ == T(0) ? T(0) : Law::slip_force(v_, direction_, friction_);
+    }
   }
   StepOutput<T> slip_output(T a_x) const noexcept {
     StepOutput<T> o{};
     o.x_r_m = x_;
     o.v_r_m_per_s = v_;
     o.a_x_m_per_s2 = a_x;
-    o.friction_n = kinetic_n_ * direction_;
+    o.friction_n = slip_force();
     o.stuck_time_s = T(0);
     o.stuck_fraction = T(0);
     o.stuck = false;
@@ -356,6 +444,10 @@ class EndStopOscillator {
   bool break_away(const Input& in, Position& pos, T& stuck_fraction) noexcept;
   Boundary move_to_mode_end(const Input& in, Position& pos, bool detect) noexcept;
   Boundary within_tick(const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept;
+  Boundary within_tick_taylor(const Input& in, Position& pos, T& x, T& v,
+                              bool detect) const noexcept;
+  Boundary within_tick_interpolated(const Input& in, Position& pos, T& x, T& v,
+                                    bool detect) const noexcept;
   unsigned first_tick_leaving_mode(const Input& in, unsigned lo, unsigned hi, T& x, T& v, T& x_hi,
                                    T& v_hi) const noexcept;
   void enter_mode_at(const Input& in, const Position& pos, Boundary boundary,
@@ -374,6 +466,7 @@ class EndStopOscillator {
     x_ = v_ = T(0);
     direction_ = kSticking ? T(0) : T(1);
     contact_ = 0;
+    refresh_force();
     ++counters_.state_resets;
   }
 
@@ -388,7 +481,7 @@ class EndStopOscillator {
       o.a_x_m_per_s2 = a_u;                  // stuck: the seat moves with the floor, exactly
       o.stuck = true;
     } else {
-      o.friction_n = kinetic_n_ * direction_;
+      o.friction_n = slip_force();
       o.a_x_m_per_s2 = -inv_mass_ * (stiffness_ * x_ + damping_ * v_ + stop + o.friction_n);
       o.stuck = false;
     }
@@ -403,9 +496,12 @@ class EndStopOscillator {
   T mass_kg_{}, inv_mass_{}, stiffness_{}, damping_{};
   T stop_stiffness_{}, stop_damping_{}, travel_{};
   T kinetic_n_{}, static_n_{};
+  FrictionCoefficients<T> friction_{};  // Stribeck: the law's coefficients
   T dt_s_{}, tick_fraction_{}, tick_s_{};
+  T stiffness_over_mass_[2]{}, damping_over_mass_[2]{};  // [free, contact]: (k + k_s c)/m, ...
   T x_{}, v_{}, a_prev_{}, direction_{};
   T acceleration_{};  // v_r' at the current state (0 while stuck)
+  T held_force_{};    // Stribeck: the friction held over the current piece of motion
   int contact_ = 0;
   StopContacts<T> contacts_last_{};
   std::uint64_t contacts_ = 0;

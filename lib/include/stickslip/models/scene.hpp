@@ -5,7 +5,9 @@
 //   + coulomb                            -> Oscillator<T, SignumFriction> (or a smoothed law)
 //   + static_friction                    -> Oscillator<T, CoulombStickSlip>
 //   + stribeck                           -> Oscillator<T, StribeckStickSlip>
-//   + end_stops (with none or stick-slip) -> EndStopOscillator<T, NoFriction / CoulombStickSlip>
+//   + end_stops (with none, stick-slip or stribeck)
+//                                        -> EndStopOscillator<T, NoFriction / CoulombStickSlip /
+//                                           StribeckStickSlip>
 #pragma once
 
 #include "stickslip/core/params.hpp"
@@ -49,13 +51,17 @@ ConfigResult configure_for_scene(EndStopOscillator<T, Law>& model,
 }
 
 // Calls fn(model) with a model of exactly the scene's effects (unconfigured: call
-// configure_for_scene(model, scene)). With end stops the seat's model must be linear or
-// stick-slip (configure refuses the others with a message).
+// configure_for_scene(model, scene)). With end stops the seat's model must be linear,
+// stick-slip or stribeck (configure refuses the others with a message).
 template <typename T, typename Fn>
 decltype(auto) with_scene_model(const SceneParams& scene, Fn&& fn) {
   if (scene.effects & kEndStops) {
     if (scene.seat.model == FrictionModel::linear) {
       EndStopOscillator<T, NoFriction> model;
+      return fn(model);
+    }
+    if (scene.seat.model == FrictionModel::stribeck) {
+      EndStopOscillator<T, StribeckStickSlip> model;
       return fn(model);
     }
     EndStopOscillator<T, CoulombStickSlip> model;

@@ -42,6 +42,7 @@ int EndStopOscillator<T, Law>::search(const Input& in, T& stuck_fraction,
         return events;
       }
       if (!break_away(in, pos, stuck_fraction)) return events;
+      refresh_force();  // Stribeck: the slip begins at rest, with F_fs
       ++events;
       continue;
     }
@@ -49,6 +50,7 @@ int EndStopOscillator<T, Law>::search(const Input& in, T& stuck_fraction,
     if (boundary == Boundary::none) return events;
     ++events;
     enter_mode_at(in, pos, boundary, out);
+    refresh_force();  // Stribeck: the next piece's force, from the event's state
   }
   return events;
 }
@@ -105,7 +107,7 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
   while (end < kTicks) {
     const unsigned next = (end / kScanBlock + 1) * kScanBlock;
     T xn = x, vn = v;
-    advance(xn, vn, contact_, direction_, end, next - end, in);
+    advance(xn, vn, contact_, slip_force(), end, next - end, in);
     if (detect && mode_ends(xn, vn)) {
       const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
       Position at{lo, T(0)};
@@ -135,12 +137,78 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
   return Boundary::none;
 }
 
-// From pos to the end of its tick on the mode's Taylor polynomial, or (with `detect`) to the
-// first boundary inside it: returns which, with (x, v) and pos there.
+// From pos to the end of its tick, or (with `detect`) to the first boundary inside it: returns
+// which, with (x, v) and pos there. Floating point solves for it on the mode's Taylor polynomial;
+// fixed point (no Taylor search) interpolates inside the tick of dt/2^16, whose second-order
+// error (tick^2 jerk, ~1e-16 of the motion) is far below its resolution.
 template <typename T, typename Law>
 typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_tick(
     const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
-  const T offset = inv_mass_ * (kinetic_n_ * direction_ - stop_stiffness_ * travel_ * T(contact_));
+  if constexpr (S::kTaylorEventSearch) {
+    return within_tick_taylor(in, pos, x, v, detect);
+  } else {
+    return within_tick_interpolated(in, pos, x, v, detect);
+  }
+}
+
+// Fixed point: a second-order Taylor step over the rest of the tick; a boundary inside it (v_r d
+// reaching 0, x_r reaching the stroke boundary) is placed by linear interpolation.
+template <typename T, typename Law>
+typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_tick_interpolated(
+    const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
+  const int mode = contact_ != 0 ? 1 : 0;
+  const T span = T(1) - pos.frac;
+  const T h = span * tick_s_;
+  const T a = seat_acceleration(x, v) - in.at(phi(pos));
+  const T jerk =
+      -(stiffness_over_mass_[mode] * v + damping_over_mass_[mode] * a) - (in.a1 - in.a0) / dt_s_;
+  const T x_end = x + h * (v + T(0.5) * a * h);
+  T v_end = v + h * (a + T(0.5) * jerk * h);
+  const bool starting = kSticking && v == T(0);
+  // A slip that starts here departs with a d >= 0: a reversed end is rounding.
+  if (starting && v_end * direction_ < T(0)) v_end = T(0);
+  Boundary found = Boundary::none;
+  T theta = T(1);  // the boundary's place in the rest of the tick
+  if (detect) {
+    if (kSticking && !starting && v_end * direction_ <= T(0)) {
+      theta = S::proportion(v, v - v_end);
+      found = Boundary::velocity;
+    }
+    const bool leaves = contact_ == 0 ? region(x_end) != 0 : x_end * T(contact_) < travel_;
+    if (leaves) {
+      const T edge = boundary_ahead(x_end);
+      const T s = contact_ != 0 ? T(-contact_) : (edge > T(0) ? T(1) : T(-1));
+      const T f_lo = s * (x - edge), f_hi = s * (x_end - edge);
+      const T at = f_lo < T(0) ? S::proportion(-f_lo, f_hi - f_lo) : T(0);
+      if (found == Boundary::none || at < theta) {
+        theta = at;
+        found = Boundary::stroke;
+      }
+    }
+    theta = theta < T(0) ? T(0) : (theta > T(1) ? T(1) : theta);
+  }
+  if (found == Boundary::none) {
+    x = x_end;
+    v = v_end;
+    ++pos.tick;
+    pos.frac = T(0);
+    return found;
+  }
+  x = x + theta * (x_end - x);
+  v = found == Boundary::velocity ? T(0) : v + theta * (v_end - v);
+  pos.frac = pos.frac + theta * span;
+  if (!(pos.frac < T(1))) {
+    ++pos.tick;
+    pos.frac = T(0);
+  }
+  return found;
+}
+
+// Floating point: on the mode's Taylor polynomial.
+template <typename T, typename Law>
+typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_tick_taylor(
+    const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
+  const T offset = inv_mass_ * (slip_force() - stop_stiffness_ * travel_ * T(contact_));
   const T span = T(1) - pos.frac;
   const T starting = kSticking && v == T(0) ? direction_ : T(0);
   const TaylorSegment<T> segment(taylor_[contact_ != 0 ? 1 : 0], x, v, -(in.at(phi(pos)) + offset),
@@ -209,7 +277,7 @@ unsigned EndStopOscillator<T, Law>::first_tick_leaving_mode(const Input& in, uns
   while (hi - lo > 1) {
     const unsigned mid = lo + (hi - lo) / 2;
     T xm = x, vm = v;
-    advance(xm, vm, contact_, direction_, lo, mid - lo, in);
+    advance(xm, vm, contact_, slip_force(), lo, mid - lo, in);
     if (mode_ends(xm, vm)) {
       hi = mid;
       x_hi = xm;

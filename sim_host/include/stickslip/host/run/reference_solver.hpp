@@ -62,8 +62,10 @@ ReferenceTrace solve_reference(const OscillatorParams& params, const std::vector
 // beyond it. Three regions, each a linear oscillator in closed form; contact and release
 // (|x_r| = travel), v_r = 0 and break-away are located on the closed form of the current region
 // by a bracketing root finder (reference_end_stops.cpp). Laws: linear (a frictionless seat),
-// signum and stick-slip. Throws ConfigurationError for the others and for parameters
-// EndStopOscillator::configure refuses, HostError as above.
+// signum, stick-slip and stribeck (whose slip phases are integrated by the adaptive Cash-Karp
+// 5(4) above, region by region, with the same event searches on its steps). Throws
+// ConfigurationError for smooth and for parameters EndStopOscillator::configure refuses,
+// HostError as above.
 ReferenceTrace solve_reference(const OscillatorParams& params, const EndStopParams& stops,
                                const std::vector<double>& a_u, double x0_m = 0.0,
                                double v0_m_per_s = 0.0);

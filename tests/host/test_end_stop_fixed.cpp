@@ -1,0 +1,211 @@
+// The seat with end stops in fixed point (EndStopOscillator<Fixed, Law>, Q23.40): out of reach
+// of the stops against the plain fixed-point oscillator, in contact against the double model
+// (T_ax and p within docs/EMBEDDED.md's fixed-point targets: T_ax 1 %, p 0.01). Figures are
+// printed with STICKSLIP_TEST_MARGINS=1.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+#include "../core/oracles.hpp"
+#include "end_stop_scenarios.hpp"
+#include "stickslip/core/fixed_point.hpp"
+#include "stickslip/friction/laws.hpp"
+#include "stickslip/models/end_stops.hpp"
+#include "stickslip/models/oscillator.hpp"
+// Last: CppUTest redefines `new` for its leak detection.
+#include "CppUTest/TestHarness.h"
+
+using namespace stickslip;
+
+namespace {
+
+using test::end_stop::kDt;
+using test::end_stop::seat;
+using test::end_stop::stops;
+using test::end_stop::wideband;
+
+struct History {
+  std::vector<double> x, a_x;
+  double stuck_s = 0.0;
+  std::uint64_t contacts = 0, budget_exhausted = 0, saturated = 0, resets = 0;
+};
+
+double to_double(double v) {
+  return v;
+}
+double to_double(Fixed v) {
+  return v.to_double();
+}
+
+template <typename T, typename Model>
+History run_model(Model& model, const std::vector<double>& a_u) {
+  History h;
+  model.reset(T(0.0), T(0.0), T(a_u[0]));
+  const auto first = model.current();
+  h.x.push_back(to_double(first.x_r_m));
+  h.a_x.push_back(to_double(first.a_x_m_per_s2));
+  for (std::size_t n = 1; n < a_u.size(); ++n) {
+    const auto out = model.step(T(a_u[n]));
+    h.stuck_s += to_double(out.stuck_fraction) * kDt;
+    h.x.push_back(to_double(out.x_r_m));
+    h.a_x.push_back(to_double(out.a_x_m_per_s2));
+  }
+  return h;
+}
+
+template <typename T, typename Law>
+History end_stop_history(const OscillatorParams& p, const EndStopParams& s,
+                         const std::vector<double>& a_u) {
+  EndStopOscillator<T, Law> model;
+  const ConfigResult configured = model.configure(p, s);
+  CHECK_TEXT(configured.ok(), configured.message.c_str());
+  History h = run_model<T>(model, a_u);
+  h.contacts = model.contacts();
+  h.budget_exhausted = model.event_budget_exhausted();
+  h.resets = model.state_resets();
+  if constexpr (ScalarTraits<T>::kTracksSaturation) h.saturated = model.saturated_steps();
+  return h;
+}
+
+double rms(const std::vector<double>& a) {
+  double sum = 0.0;
+  for (const double v : a) sum += v * v;
+  return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
+struct Deviation {
+  double x = 0.0, a_x = 0.0, t_ax = 0.0, p = 0.0;
+};
+
+Deviation deviation(const History& h, const History& ref, double duration_s) {
+  Deviation d;
+  double x_scale = 0.0, ex = 0.0, ea = 0.0;
+  for (std::size_t n = 0; n < h.x.size(); ++n) {
+    x_scale = std::max(x_scale, std::fabs(ref.x[n]));
+    ex = std::max(ex, std::fabs(h.x[n] - ref.x[n]));
+    ea += (h.a_x[n] - ref.a_x[n]) * (h.a_x[n] - ref.a_x[n]);
+  }
+  const double a_scale = rms(ref.a_x);
+  d.x = ex / x_scale;
+  d.a_x = std::sqrt(ea / static_cast<double>(h.x.size())) / a_scale;
+  d.t_ax = std::fabs(rms(h.a_x) - a_scale) / a_scale;
+  d.p = std::fabs(h.stuck_s - ref.stuck_s) / duration_s;
+  return d;
+}
+
+void print(const char* what, const Deviation& d) {
+  if (std::getenv("STICKSLIP_TEST_MARGINS") == nullptr) return;
+  std::printf("\n    [figure] %s: x %.3e, a_x rms %.3e, T_ax %.3e, p %.3e", what, d.x, d.a_x,
+              d.t_ax, d.p);
+}
+
+template <typename Law>
+double rms_free_stroke(const OscillatorParams& p, const std::vector<double>& a_u) {
+  Oscillator<double, Law> plain;
+  CHECK_TRUE(plain.configure(p).ok());
+  return rms(run_model<double>(plain, a_u).x);
+}
+
+}  // namespace
+
+TEST_GROUP(EndStopFixedPoint){};
+
+// Out of reach (10 m of travel) the fixed-point seat with stops is the plain fixed-point
+// oscillator to the format's rounding: the two locate events on different grids (dt/2^16 here,
+// dt/2^10 there), each rounding in Q23.40, so the yardstick is how far the plain fixed-point run
+// is from the double one. The model with stops stays within 2.5 times that spread in x_r, a_x, T_ax
+// and p (measured at most 1.9 times; T_ax and p: or 1e-9, where the spread is smaller).
+TEST(EndStopFixedPoint, StopsOutOfReachEqualThePlainFixedOscillatorToItsRounding) {
+  const std::vector<double> a_u = wideband(0.35, 20.0, 5);
+  for (const FrictionModel model : {FrictionModel::stick_slip, FrictionModel::linear}) {
+    for (const double damping : {0.0, 504.0}) {
+      const bool sticking = model == FrictionModel::stick_slip;
+      const OscillatorParams p = seat(model, damping, sticking ? 25.0 : 0.0, 30.0);
+      History fixed_plain, double_plain, got;
+      if (sticking) {
+        Oscillator<Fixed, CoulombStickSlip> plain;
+        CHECK_TRUE(plain.configure(p).ok());
+        fixed_plain = run_model<Fixed>(plain, a_u);
+        Oscillator<double, CoulombStickSlip> exact;
+        CHECK_TRUE(exact.configure(p).ok());
+        double_plain = run_model<double>(exact, a_u);
+        got = end_stop_history<Fixed, CoulombStickSlip>(p, stops(10.0, 0.0), a_u);
+      } else {
+        Oscillator<Fixed, NoFriction> plain;
+        CHECK_TRUE(plain.configure(p).ok());
+        fixed_plain = run_model<Fixed>(plain, a_u);
+        Oscillator<double, NoFriction> exact;
+        CHECK_TRUE(exact.configure(p).ok());
+        double_plain = run_model<double>(exact, a_u);
+        got = end_stop_history<Fixed, NoFriction>(p, stops(10.0, 0.0), a_u);
+      }
+      const Deviation spread = deviation(fixed_plain, double_plain, 20.0);
+      const Deviation to_plain = deviation(got, fixed_plain, 20.0);
+      const Deviation to_double = deviation(got, double_plain, 20.0);
+      print(sticking ? "stick-slip: plain fixed vs double" : "frictionless: plain fixed vs double",
+            spread);
+      print("  with stops (fixed) vs plain fixed", to_plain);
+      print("  with stops (fixed) vs double", to_double);
+      if (sticking) CHECK(double_plain.stuck_s > 1.0);
+      CHECK_EQUAL(0u, got.contacts);
+      CHECK_EQUAL(0u, got.saturated);
+      CHECK(to_double.x <= 2.5 * spread.x);
+      CHECK(to_double.a_x <= 2.5 * spread.a_x);
+      CHECK(to_double.t_ax <= std::max(2.5 * spread.t_ax, 1e-9));
+      CHECK(to_double.p <= std::max(2.5 * spread.p, 1e-9));
+      // Without friction there are no events to place: x_r is the plain one's bit for bit (a_x
+      // is formed as (k x + b v)/m there, k/m x + b/m v in the plain oscillator).
+      if (!sticking) CHECK(got.x == fixed_plain.x);
+    }
+  }
+}
+
+// In contact (stops at the RMS free stroke, 2e5 N/m, damped): T_ax and p against the double
+// model within docs/EMBEDDED.md's fixed-point targets (T_ax 1 %, p 0.01) by far: measured T_ax
+// 3e-8 and p 5e-9 at most, so both are held to 1e-6 here, with the same contacts, no saturation.
+TEST(EndStopFixedPoint, ContactFollowsTheDoubleModelWithinTheFixedPointTargets) {
+  const std::vector<double> a_u = wideband(2.0, 20.0, 13);
+  for (const FrictionModel model : {FrictionModel::stick_slip, FrictionModel::linear}) {
+    for (const double damping : {0.0, 504.0}) {
+      const bool sticking = model == FrictionModel::stick_slip;
+      const OscillatorParams p = seat(model, damping, sticking ? 25.0 : 0.0, 30.0);
+      const EndStopParams s = stops(sticking ? rms_free_stroke<CoulombStickSlip>(p, a_u)
+                                             : rms_free_stroke<NoFriction>(p, a_u),
+                                    2.0e3);
+      const History want = sticking ? end_stop_history<double, CoulombStickSlip>(p, s, a_u)
+                                    : end_stop_history<double, NoFriction>(p, s, a_u);
+      const History got = sticking ? end_stop_history<Fixed, CoulombStickSlip>(p, s, a_u)
+                                   : end_stop_history<Fixed, NoFriction>(p, s, a_u);
+      const Deviation d = deviation(got, want, 20.0);
+      print(sticking ? (damping > 0 ? "contact, stick-slip, damped" : "contact, stick-slip")
+                     : (damping > 0 ? "contact, frictionless, damped" : "contact, frictionless"),
+            d);
+      CHECK(want.contacts > 10);
+      CHECK_EQUAL(want.contacts, got.contacts);
+      CHECK_EQUAL(0u, got.saturated);
+      CHECK_EQUAL(0u, got.budget_exhausted);
+      CHECK_EQUAL(0u, got.resets);
+      CHECK(d.t_ax <= 1e-6);
+      CHECK(d.p <= 1e-6);
+    }
+  }
+}
+
+// A scene the format cannot hold in contact is refused by configure(), naming the stop's
+// parameter: a stop of 1e7 N/m (which double takes: omega0 dt = 0.34 in contact) makes k + k_s
+// beyond Q23.40's range with its headroom (2^21 = 2.1e6).
+TEST(EndStopFixedPoint, ConfigureRefusesAStopTheFormatCannotHold) {
+  const OscillatorParams p = seat(FrictionModel::stick_slip, 504.0, 25.0, 30.0);
+  EndStopParams s = stops(0.05, 2.0e3);
+  s.stiffness_n_per_m = 1e7;
+  EndStopOscillator<double, CoulombStickSlip> in_double;
+  CHECK_TRUE(in_double.configure(p, s).ok());
+  EndStopOscillator<Fixed, CoulombStickSlip> model;
+  const ConfigResult refused = model.configure(p, s);
+  CHECK_FALSE(refused.ok());
+  STRCMP_CONTAINS("end_stop_stiffness_n_per_m", refused.message.c_str());
+  STRCMP_CONTAINS("Q23.40", refused.message.c_str());
+}

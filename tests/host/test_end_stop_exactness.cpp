@@ -23,49 +23,21 @@ using namespace stickslip::host;
 
 namespace {
 
+using test::end_stop::counted_history;
+using test::end_stop::History;
 using test::end_stop::kDt;
+using test::end_stop::rms;
+using test::end_stop::run_history;
 using test::end_stop::seat;
 using test::end_stop::stops;
 using test::end_stop::wideband;
-
-// The seat's history on a_u: x_r, a_x, stuck fraction per sample.
-struct History {
-  std::vector<double> x, a_x, stuck_fraction;
-  std::uint64_t contacts = 0, budget_exhausted = 0;
-};
-
-template <typename Model>
-History run_model(Model& model, const std::vector<double>& a_u) {
-  History h;
-  model.reset(0.0, 0.0, a_u[0]);
-  const StepOutput<double> first = model.current();
-  h.x.push_back(first.x_r_m);
-  h.a_x.push_back(first.a_x_m_per_s2);
-  h.stuck_fraction.push_back(0.0);
-  for (std::size_t n = 1; n < a_u.size(); ++n) {
-    const StepOutput<double> out = model.step(a_u[n]);
-    h.x.push_back(out.x_r_m);
-    h.a_x.push_back(out.a_x_m_per_s2);
-    h.stuck_fraction.push_back(out.stuck_fraction);
-  }
-  return h;
-}
 
 template <typename Law>
 History end_stop_history(const OscillatorParams& p, const EndStopParams& s,
                          const std::vector<double>& a_u) {
   EndStopOscillator<double, Law> model;
   CHECK_TRUE(model.configure(p, s).ok());
-  History h = run_model(model, a_u);
-  h.contacts = model.contacts();
-  h.budget_exhausted = model.event_budget_exhausted();
-  return h;
-}
-
-double rms(const std::vector<double>& a) {
-  double sum = 0.0;
-  for (const double v : a) sum += v * v;
-  return std::sqrt(sum / static_cast<double>(a.size()));
+  return counted_history(model, a_u);
 }
 
 struct Deviation {
@@ -127,7 +99,7 @@ TEST(EndStopExactness, StopsOutOfReachEqualThePlainOscillator) {
     const OscillatorParams p = seat(FrictionModel::stick_slip, 0.0, 25.0, 30.0);
     Oscillator<double, CoulombStickSlip> plain;
     CHECK_TRUE(plain.configure(p).ok());
-    const History want = run_model(plain, a_u);
+    const History want = run_history(plain, a_u);
     const History got = end_stop_history<CoulombStickSlip>(p, stops(10.0, 0.0), a_u);
     const Deviation d =
         deviation(got.x, got.a_x, stuck_time(got), want.x, want.a_x, stuck_time(want));
@@ -140,7 +112,7 @@ TEST(EndStopExactness, StopsOutOfReachEqualThePlainOscillator) {
     const OscillatorParams p = seat(FrictionModel::linear, 0.0, 0.0, 0.0);
     Oscillator<double, NoFriction> plain;
     CHECK_TRUE(plain.configure(p).ok());
-    const History want = run_model(plain, a_u);
+    const History want = run_history(plain, a_u);
     const History got = end_stop_history<NoFriction>(p, stops(10.0, 0.0), a_u);
     const Deviation d =
         deviation(got.x, got.a_x, stuck_time(got), want.x, want.a_x, stuck_time(want));

@@ -22,39 +22,14 @@ using namespace stickslip;
 
 namespace {
 
+using test::end_stop::counted_history;
+using test::end_stop::History;
 using test::end_stop::kDt;
+using test::end_stop::rms;
+using test::end_stop::run_history;
 using test::end_stop::seat;
 using test::end_stop::stops;
 using test::end_stop::wideband;
-
-struct History {
-  std::vector<double> x, a_x;
-  double stuck_s = 0.0;
-  std::uint64_t contacts = 0, budget_exhausted = 0, saturated = 0, resets = 0;
-};
-
-double to_double(double v) {
-  return v;
-}
-double to_double(Fixed v) {
-  return v.to_double();
-}
-
-template <typename T, typename Model>
-History run_model(Model& model, const std::vector<double>& a_u) {
-  History h;
-  model.reset(T(0.0), T(0.0), T(a_u[0]));
-  const auto first = model.current();
-  h.x.push_back(to_double(first.x_r_m));
-  h.a_x.push_back(to_double(first.a_x_m_per_s2));
-  for (std::size_t n = 1; n < a_u.size(); ++n) {
-    const auto out = model.step(T(a_u[n]));
-    h.stuck_s += to_double(out.stuck_fraction) * kDt;
-    h.x.push_back(to_double(out.x_r_m));
-    h.a_x.push_back(to_double(out.a_x_m_per_s2));
-  }
-  return h;
-}
 
 template <typename T, typename Law>
 History end_stop_history(const OscillatorParams& p, const EndStopParams& s,
@@ -62,18 +37,10 @@ History end_stop_history(const OscillatorParams& p, const EndStopParams& s,
   EndStopOscillator<T, Law> model;
   const ConfigResult configured = model.configure(p, s);
   CHECK_TEXT(configured.ok(), configured.message.c_str());
-  History h = run_model<T>(model, a_u);
-  h.contacts = model.contacts();
-  h.budget_exhausted = model.event_budget_exhausted();
+  History h = counted_history(model, a_u);
   h.resets = model.state_resets();
   if constexpr (ScalarTraits<T>::kTracksSaturation) h.saturated = model.saturated_steps();
   return h;
-}
-
-double rms(const std::vector<double>& a) {
-  double sum = 0.0;
-  for (const double v : a) sum += v * v;
-  return std::sqrt(sum / static_cast<double>(a.size()));
 }
 
 struct Deviation {
@@ -106,7 +73,7 @@ template <typename Law>
 double rms_free_stroke(const OscillatorParams& p, const std::vector<double>& a_u) {
   Oscillator<double, Law> plain;
   CHECK_TRUE(plain.configure(p).ok());
-  return rms(run_model<double>(plain, a_u).x);
+  return rms(run_history(plain, a_u).x);
 }
 
 }  // namespace
@@ -128,18 +95,18 @@ TEST(EndStopFixedPoint, StopsOutOfReachEqualThePlainFixedOscillatorToItsRounding
       if (sticking) {
         Oscillator<Fixed, CoulombStickSlip> plain;
         CHECK_TRUE(plain.configure(p).ok());
-        fixed_plain = run_model<Fixed>(plain, a_u);
+        fixed_plain = run_history(plain, a_u);
         Oscillator<double, CoulombStickSlip> exact;
         CHECK_TRUE(exact.configure(p).ok());
-        double_plain = run_model<double>(exact, a_u);
+        double_plain = run_history(exact, a_u);
         got = end_stop_history<Fixed, CoulombStickSlip>(p, stops(10.0, 0.0), a_u);
       } else {
         Oscillator<Fixed, NoFriction> plain;
         CHECK_TRUE(plain.configure(p).ok());
-        fixed_plain = run_model<Fixed>(plain, a_u);
+        fixed_plain = run_history(plain, a_u);
         Oscillator<double, NoFriction> exact;
         CHECK_TRUE(exact.configure(p).ok());
-        double_plain = run_model<double>(exact, a_u);
+        double_plain = run_history(exact, a_u);
         got = end_stop_history<Fixed, NoFriction>(p, stops(10.0, 0.0), a_u);
       }
       const Deviation spread = deviation(fixed_plain, double_plain, 20.0);

@@ -25,39 +25,14 @@ using namespace stickslip::host;
 
 namespace {
 
+using test::end_stop::counted_history;
+using test::end_stop::History;
 using test::end_stop::kDt;
+using test::end_stop::rms;
+using test::end_stop::run_history;
 using test::end_stop::seat;
 using test::end_stop::stops;
 using test::end_stop::wideband;
-
-// The seat's history: x_r, a_x, friction and stuck time, every `keep`-th sample.
-struct History {
-  std::vector<double> x, a_x, friction;
-  std::vector<std::uint8_t> stuck;
-  double stuck_s = 0.0;
-  std::uint64_t contacts = 0, budget_exhausted = 0;
-};
-
-template <typename Model, typename T>
-History run_model(Model& model, const std::vector<T>& a_u, double dt, std::size_t keep) {
-  History h;
-  model.reset(T(0), T(0), a_u[0]);
-  const auto first = model.current();
-  h.x.push_back(first.x_r_m);
-  h.a_x.push_back(first.a_x_m_per_s2);
-  h.friction.push_back(first.friction_n);
-  h.stuck.push_back(first.stuck ? 1 : 0);
-  for (std::size_t n = 1; n < a_u.size(); ++n) {
-    const auto out = model.step(a_u[n]);
-    h.stuck_s += static_cast<double>(out.stuck_fraction) * dt;
-    if (n % keep != 0) continue;
-    h.x.push_back(out.x_r_m);
-    h.a_x.push_back(out.a_x_m_per_s2);
-    h.friction.push_back(out.friction_n);
-    h.stuck.push_back(out.stuck ? 1 : 0);
-  }
-  return h;
-}
 
 template <typename Law>
 History end_stop_history(const OscillatorParams& p, const EndStopParams& s,
@@ -65,16 +40,7 @@ History end_stop_history(const OscillatorParams& p, const EndStopParams& s,
   EndStopOscillator<double, Law> model;
   const ConfigResult configured = model.configure(p, s);
   CHECK_TEXT(configured.ok(), configured.message.c_str());
-  History h = run_model(model, a_u, p.dt_s, keep);
-  h.contacts = model.contacts();
-  h.budget_exhausted = model.event_budget_exhausted();
-  return h;
-}
-
-double rms(const std::vector<double>& a) {
-  double sum = 0.0;
-  for (const double v : a) sum += v * v;
-  return std::sqrt(sum / static_cast<double>(a.size()));
+  return counted_history(model, a_u, p.dt_s, keep);
 }
 
 struct Deviation {
@@ -133,7 +99,7 @@ OscillatorParams stribeck_seat(double damping, double kinetic_n, double static_n
 double rms_free_stroke(const OscillatorParams& p, const std::vector<double>& a_u) {
   Oscillator<double, StribeckStickSlip> plain;
   CHECK_TRUE(plain.configure(p).ok());
-  return rms(run_model(plain, a_u, p.dt_s, 1).x);
+  return rms(run_history(plain, a_u, p.dt_s, 1).x);
 }
 
 }  // namespace
@@ -150,7 +116,7 @@ TEST(EndStopStribeck, StopsOutOfReachEqualThePlainStribeckOscillator) {
     const OscillatorParams p = stribeck_seat(damping, 25.0, 30.0);
     Oscillator<double, StribeckStickSlip> plain;
     CHECK_TRUE(plain.configure(p).ok());
-    const History want = run_model(plain, a_u, kDt, 1);
+    const History want = run_history(plain, a_u, kDt, 1);
     const History got = end_stop_history<StribeckStickSlip>(p, stops(10.0, 0.0), a_u);
     const Deviation d = deviation(got, want.x, want.a_x, want.stuck_s, 20.0);
     print(damping > 0 ? "out of reach, stribeck, damped" : "out of reach, stribeck, undamped", d);
@@ -247,8 +213,7 @@ TEST(EndStopStribeck, FloatFollowsDoubleInContact) {
   const History want = end_stop_history<StribeckStickSlip>(p, s, a_u);
   EndStopOscillator<float, StribeckStickSlip> model;
   CHECK_TRUE(model.configure(p, s).ok());
-  std::vector<float> input(a_u.begin(), a_u.end());
-  const History got = run_model(model, input, kDt, 1);
+  const History got = run_history(model, a_u);
   const Deviation d = deviation(got, want.x, want.a_x, want.stuck_s, 10.0);
   print("float vs double, stribeck in contact", d);
   CHECK_EQUAL(want.contacts, model.contacts());

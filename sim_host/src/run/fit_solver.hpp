@@ -46,6 +46,13 @@ LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<d
 // errors along each axis both ways, a success repeated with the step doubled, no success halves the
 // step, down to `last_step` or `max_evaluations` model runs. Every point it accepts has a lower
 // cost.
+// The principal axes of the Gauss-Newton covariance s^2 (J'J)^-1 at u (s^2 = cost / (N - P)),
+// each scaled to one standard error; empty if the model refuses u. Adds the model runs it took
+// to `evaluations`.
+std::vector<std::vector<double>> principal_axes(const FitProblem& problem, const FitBox& box,
+                                                const std::vector<double>& u, double cost,
+                                                int* evaluations = nullptr);
+
 struct PatternSearch {
   std::vector<double> u;
   double cost = 0.0;
@@ -54,7 +61,7 @@ struct PatternSearch {
 };
 PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
                              const std::vector<double>& start, double start_cost, double first_step,
-                             double last_step, int max_evaluations);
+                             double last_step, int max_evaluations, bool diagonals = false);
 
 struct FitCovariance {
   // Of fit_values(), in `order`; a parameter with no influence on the residuals has

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -119,17 +120,26 @@ PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
       principal_axes(problem, box, start, start_cost, &out.evaluations);
   if (axes.empty()) return out;
   if (diagonals) {
-    // (a_i + a_j) / sqrt(2) and (a_i - a_j) / sqrt(2): one standard error long as well
+    // every sum of two or more axes with signs, sum_i c_i a_i / sqrt(#c_i != 0) with c_i in
+    // {-1, 0, +1}, one of each pair +-c (the search tries both ways): one standard error long
     const std::size_t principal = axes.size();
-    for (std::size_t a = 0; a < principal; ++a) {
-      for (std::size_t b = a + 1; b < principal; ++b) {
-        for (double sign : {1.0, -1.0}) {
-          std::vector<double> axis(count);
-          for (std::size_t j = 0; j < count; ++j)
-            axis[j] = (axes[a][j] + sign * axes[b][j]) / std::sqrt(2.0);
-          axes.push_back(axis);
-        }
+    std::size_t patterns = 1;
+    for (std::size_t a = 0; a < principal; ++a) patterns *= 3;
+    for (std::size_t code = 1; code < patterns; ++code) {
+      std::vector<int> c(principal);
+      std::size_t rest = code, nonzero = 0;
+      for (std::size_t a = 0; a < principal; ++a, rest /= 3) {
+        c[a] = static_cast<int>(rest % 3) - 1;
+        nonzero += c[a] != 0 ? 1 : 0;
       }
+      // keep the one of +-c whose first non-zero entry is +1
+      const auto first = std::find_if(c.begin(), c.end(), [](int v) { return v != 0; });
+      if (nonzero < 2 || *first < 0) continue;
+      std::vector<double> axis(count, 0.0);
+      for (std::size_t a = 0; a < principal; ++a)
+        for (std::size_t j = 0; j < count; ++j)
+          axis[j] += c[a] * axes[a][j] / std::sqrt(static_cast<double>(nonzero));
+      axes.push_back(axis);
     }
   }
   const auto cost_at = [&](const std::vector<double>& u) {

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -77,29 +78,27 @@ LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<d
   return fit;
 }
 
-PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
-                             const std::vector<double>& start, double start_cost, double first_step,
-                             double last_step, int max_evaluations) {
-  PatternSearch out{start, start_cost, 0, 0};
-  const std::size_t count = start.size();
+std::vector<std::vector<double>> principal_axes(const FitProblem& problem, const FitBox& box,
+                                                const std::vector<double>& u, double cost,
+                                                int* evaluations) {
+  std::vector<std::vector<double>> axes;
+  const std::size_t count = u.size();
   std::vector<double> residuals, columns;
-  if (!fit_residuals(problem, start.data(), residuals) ||
-      !fit_jacobian(problem, start.data(), box.lower, box.upper, box.step, residuals, columns)) {
-    return out;
+  if (!fit_residuals(problem, u.data(), residuals) ||
+      !fit_jacobian(problem, u.data(), box.lower, box.upper, box.step, residuals, columns)) {
+    return axes;
   }
-  out.evaluations = 1 + 2 * static_cast<int>(count);
-  // Axes and lengths: eigenvectors of s^2 (J'J)^-1 and the square roots of its eigenvalues. An
-  // unknown without influence (a zero column) is searched along its own axis with the
-  // differencing step.
+  if (evaluations != nullptr) *evaluations += 1 + 2 * static_cast<int>(count);
+  // Eigenvectors of s^2 (J'J)^-1 and the square roots of its eigenvalues. An unknown without
+  // influence (a zero column) is searched along its own axis with the differencing step.
   const auto rows = static_cast<Eigen::Index>(residuals.size());
   const auto n = static_cast<Eigen::Index>(count);
   const Eigen::Map<const Eigen::MatrixXd> jacobian(columns.data(), rows, n);
-  const double variance = start_cost / static_cast<double>(residuals.size() - count);
+  const double variance = cost / static_cast<double>(residuals.size() - count);
   Eigen::MatrixXd normal = jacobian.transpose() * jacobian;
   for (Eigen::Index j = 0; j < n; ++j)
     if (normal(j, j) == 0.0) normal(j, j) = variance / (box.step * box.step);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normal);
-  std::vector<std::vector<double>> axes;
   for (Eigen::Index a = 0; a < n; ++a) {
     const double curvature = eigen.eigenvalues()(a);
     if (!(curvature > 0.0)) continue;
@@ -108,6 +107,40 @@ PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
     for (Eigen::Index j = 0; j < n; ++j)
       axis[static_cast<std::size_t>(j)] = sd * eigen.eigenvectors()(j, a);
     axes.push_back(axis);
+  }
+  return axes;
+}
+
+PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
+                             const std::vector<double>& start, double start_cost, double first_step,
+                             double last_step, int max_evaluations, bool diagonals) {
+  PatternSearch out{start, start_cost, 0, 0};
+  const std::size_t count = start.size();
+  std::vector<std::vector<double>> axes =
+      principal_axes(problem, box, start, start_cost, &out.evaluations);
+  if (axes.empty()) return out;
+  if (diagonals) {
+    // every sum of two or more axes with signs, sum_i c_i a_i / sqrt(#c_i != 0) with c_i in
+    // {-1, 0, +1}, one of each pair +-c (the search tries both ways): one standard error long
+    const std::size_t principal = axes.size();
+    std::size_t patterns = 1;
+    for (std::size_t a = 0; a < principal; ++a) patterns *= 3;
+    for (std::size_t code = 1; code < patterns; ++code) {
+      std::vector<int> c(principal);
+      std::size_t rest = code, nonzero = 0;
+      for (std::size_t a = 0; a < principal; ++a, rest /= 3) {
+        c[a] = static_cast<int>(rest % 3) - 1;
+        nonzero += c[a] != 0 ? 1 : 0;
+      }
+      // keep the one of +-c whose first non-zero entry is +1
+      const auto first = std::find_if(c.begin(), c.end(), [](int v) { return v != 0; });
+      if (nonzero < 2 || *first < 0) continue;
+      std::vector<double> axis(count, 0.0);
+      for (std::size_t a = 0; a < principal; ++a)
+        for (std::size_t j = 0; j < count; ++j)
+          axis[j] += c[a] * axes[a][j] / std::sqrt(static_cast<double>(nonzero));
+      axes.push_back(axis);
+    }
   }
   const auto cost_at = [&](const std::vector<double>& u) {
     ++out.evaluations;

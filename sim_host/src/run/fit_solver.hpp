@@ -37,6 +37,13 @@ struct LocalFit {
 LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<double> u0,
                      int max_iterations);
 
+// The principal axes of the Gauss-Newton covariance s^2 (J'J)^-1 at u (s^2 = cost / (N - P)),
+// each scaled to one standard error; empty if the model refuses u. Adds the model runs it took
+// to `evaluations`.
+std::vector<std::vector<double>> principal_axes(const FitProblem& problem, const FitBox& box,
+                                                const std::vector<double>& u, double cost,
+                                                int* evaluations = nullptr);
+
 // A derivative-free descent on the exact cost from `start`, for what Levenberg-Marquardt cannot
 // see: a sample's a_x jumps where a stick or break-away crosses it, so near the minimum the cost
 // is a staircase of plateaus far narrower than the intervals (a move of 0.1-0.2 standard errors
@@ -44,8 +51,10 @@ LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<d
 // pieces sees a flat tread. A compass search (Kolda, Lewis & Torczon, SIAM Review 45, 2003) along
 // the principal axes of the Gauss-Newton covariance at `start`: steps of `first_step` standard
 // errors along each axis both ways, a success repeated with the step doubled, no success halves the
-// step, down to `last_step` or `max_evaluations` model runs. Every point it accepts has a lower
-// cost.
+// step, down to `last_step` or `max_evaluations` model runs. With `diagonals` the pattern also
+// holds every signed combination of two or more axes, sum c_i a_i / sqrt(#c_i != 0) with c_i in
+// {-1, 0, 1} (3^n - 1 points per step for n unknowns; fit.cpp, escape()). Every point it accepts
+// has a lower cost.
 struct PatternSearch {
   std::vector<double> u;
   double cost = 0.0;
@@ -54,7 +63,7 @@ struct PatternSearch {
 };
 PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
                              const std::vector<double>& start, double start_cost, double first_step,
-                             double last_step, int max_evaluations);
+                             double last_step, int max_evaluations, bool diagonals = false);
 
 struct FitCovariance {
   // Of fit_values(), in `order`; a parameter with no influence on the residuals has

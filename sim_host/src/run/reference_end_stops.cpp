@@ -217,22 +217,28 @@ class StopSolver {
 
   // Moving from tau in direction d in the current region: to the end of the sample, or to the
   // first boundary (v_r = 0 or |x_r| = travel), whichever comes first. Returns the instant.
+  // The stop boundary ahead of motion in direction d: entering one from the free stroke, or
+  // leaving one moving back; false in contact moving further in (no boundary ahead).
+  bool boundary_ahead(Real d, Real& boundary) const {
+    if (region_ == 0) {
+      boundary = d * travel_;
+      return true;
+    }
+    if (d == -region_) {
+      boundary = region_ * travel_;
+      return true;
+    }
+    return false;
+  }
+
   Real move_until(Real a0, Real a1, Real tau, int& in_sample) {
     if (stribeck_) return slip_ode_until(a0, a1, tau, in_sample);
     const Real d = direction_;
     const FreeModes& modes = region_ == 0 ? free_ : contact_;
     const Real offset = (kinetic_ * d - stop_stiffness_ * travel_ * region_) / mass_;
     const RampMotion motion(modes, x_, v_, input_at(a0, a1, tau), (a1 - a0) / dt_, offset);
-    // The stop boundary ahead: entering one from the free stroke, leaving one moving back.
-    bool bounded = false;
     Real boundary = 0;
-    if (region_ == 0) {
-      bounded = true;
-      boundary = d * travel_;
-    } else if (d == -region_) {
-      bounded = true;
-      boundary = region_ * travel_;
-    }
+    const bool bounded = boundary_ahead(d, boundary);
     const Real length = dt_ - tau, piece = modes.max_piece_s();
     Real ta = 0;
     Kinematics ka = motion.start();
@@ -363,15 +369,8 @@ class StopSolver {
     const double t0 = narrow(tau), dt = p_.dt_s;
     const OdeSystem system{this, narrow(input_at(a0, a1, tau)), narrow((a1 - a0) / dt_), narrow(d),
                            region_};
-    bool bounded = false;
     Real boundary = 0;
-    if (region_ == 0) {
-      bounded = true;
-      boundary = d * travel_;
-    } else if (d == -region_) {
-      bounded = true;
-      boundary = region_ * travel_;
-    }
+    const bool bounded = boundary_ahead(d, boundary);
     // Leaving rest the friction falls from F_fs within |v_r| ~ v_S: start small.
     if (v_ == 0 && ode_step_ > 1e-6 * dt) ode_step_ = 1e-6 * dt;
     double t = 0.0;  // time since tau

@@ -9,7 +9,8 @@
 #   - the worst-case stack of the callback (the deepest call chain of frames read from the
 #     disassembly, with the compiler's -fstack-usage lines of the same functions);
 #   - instructions per frame and the stack reached, running the firmware under QEMU, and its
-#     outputs against the host build of the same code, byte for byte.
+#     outputs against the host build of the same code, byte for byte;
+#   - the worst frame on the hardest input set (tools/qemu-worst-case.sh) against its limit.
 #   tools/embedded-report.sh          (about 2 minutes on 2 cores; nothing to edit by hand after)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -61,6 +62,12 @@ done
 stage "QEMU: instructions per frame, stack reached, bit for bit against the host build"
 tools/qemu-compare.sh "$stickslip" build/release/port/baremetal build "$work/qemu" \
   "$work/lorry.csv" >"$work/qemu.txt"
+
+stage "QEMU: the worst frame on the hardest input set, against its stated limit"
+cmake --build build/release -j "$jobs" --target stickslip_node_hardest_input >/dev/null
+# An OVER verdict is reported in the table (and fails its CTest), not an abort of the report.
+tools/qemu-worst-case.sh "$stickslip" build/release/port/baremetal build "$work/worst" 60 \
+  >"$work/worst.txt" || true
 
 stage "writing docs/EMBEDDED.md"
 WORK=$work COMMIT=$commit python3 - <<'EOF'
@@ -291,6 +298,62 @@ w("Counted by QEMU with `-icount shift=0` (one instruction = 1 ns of virtual tim
   "compared frame by frame and with `cmp`; the float build's frames also with the frames "
   "`stickslip replay --scalar float --outputs motion` (the host `ecu` node over the loopback bus) "
   "wrote to the same log (`tools/qemu-compare.sh`).")
+w("")
+# The bound on the work of one step: the hardest input set against the lorry.
+worst, hard = {}, {}
+for line in open(f"{work}/worst.txt"):
+    parts = line.split()
+    if parts and parts[0] == "worst":
+        fields = dict(p.split("=", 1) for p in parts[2:] if "=" in p)
+        fields["verdict"] = parts[-1]
+        worst[parts[1]] = fields
+    elif len(parts) > 3 and parts[0] in ("cortex-m0plus", "cortex-m4f"):
+        hard[parts[0]] = dict(p.split("=", 1) for p in parts[3:] if "=" in p)
+w("## Bound on the work of one step")
+w("")
+w("| build | hardest set: frames | median | 99.9 % | worst frame (index) | its limit | lorry: worst / median | target | met |")
+w("|---|---|---|---|---|---|---|---|---|")
+targets = {"cortex-m0plus": (4000, 5.0), "cortex-m4f": (600, None)}
+for preset in ("cortex-m0plus", "cortex-m4f"):
+    h, v, q = hard.get(preset, {}), worst.get(preset, {}), qemu[preset]
+    hard_max = int(h.get("instructions_per_frame_max", 0))
+    lorry_max, lorry_p50 = int(q["instructions_per_frame_max"]), int(q["instructions_per_frame_p50"])
+    target, ratio = targets[preset]
+    met = hard_max <= target and lorry_max <= target and (ratio is None or lorry_max <= ratio * lorry_p50)
+    target_text = f"worst <= {target}" + (f" and <= {ratio:.0f}x median" if ratio else "")
+    w(f"| {preset} | {h.get('frames', '?')} | {h.get('instructions_per_frame_p50', '?')} | "
+      f"{h.get('instructions_per_frame_p999', '?')} | {hard_max} ({h.get('worst_frame_index', '?')}) | "
+      f"{v.get('limit', '?')} ({v.get('verdict', '?')}) | {lorry_max} / {lorry_p50} = "
+      f"{lorry_max / lorry_p50:.1f}x | {target_text} | {'yes' if met else '**no**'} |")
+w("")
+w("*Hardest set*: 60 s from `stickslip_node_hardest_input` (`port/baremetal/src/hardest_input.cpp`): "
+  "a_u chosen sample by sample from the state of a double seat so that the limit force lands on "
+  "+F_fs or -F_fs (alternating every 7 samples) with an offset of random size, and every fourth "
+  "second full-range jumps, so that steps with events, several events and slips that come to "
+  "rest inside a step are as frequent as the physics allows. Its frames are compared with the "
+  "host build's as above, and CTest `embedded.worst_frame_on_hardest_input_within_limit` fails if "
+  "a worst frame exceeds its limit (`tools/qemu-worst-case.sh`): a regression limit 5 % above "
+  "this code's measured worst, **not** the target, which neither build meets. The frame counts "
+  "include the ECU node around the step.")
+w("")
+w("Every loop of the step has a fixed trip count, stated in "
+  "`lib/include/stickslip/models/detail/event_search.hpp`: at most `kMaxEventsPerStep` + 1 passes "
+  "of the event loop (32 events), at most 2^(L+1) - 1 block maps per step for ticks of dt/2^L "
+  "(31 in Q7.24, L = 4; 131,071 in float, L = 16), one in-tick finish per slip phase, "
+  "`kMaxRootIterations` = 64 Newton or bisection iterations per root (float), F shift-and-subtract "
+  "rounds per proportion (fixed point). That bound is far above what any input reaches, so the "
+  "worst case reported is QEMU's over the hardest set. Why the targets are missed, by loop: "
+  "**Cortex-M0+**: the block walk. A block of the dyadic bisection costs a step map (8 products "
+  "and 6 saturating adds) plus the input at both ends, the rounding test and the acceleration at "
+  "its end, about 25 Q7.24 products of about 50 ARMv6-M instructions each (32 x 32 -> 64 bits "
+  "from four 16-bit MULS, rounding, saturation), so about 1,300 instructions; locating one "
+  "crossing walks at least L + 1 = 5 blocks, and the slowest frames walk most of the 31. Meeting "
+  "4,000 with the node needs an event search of a fixed few operations: one tick per step with "
+  "the crossing and the state inside it from a cubic Taylor polynomial (in scene units the "
+  "quartic term is (k dt^2/m)^2/24 = 7e-10 of the state, below Q7.24's resolution of 6e-8), and "
+  "a node whose 64-bit counters are cheaper. **Cortex-M4F**: the event path builds the Taylor "
+  "polynomials of x_r and v_r over a tick of dt/2^16 after the same bisection (17 levels) and "
+  "runs Newton on them; its median frame (node included) is already above 600.")
 w("")
 w("## The ECU node around the step")
 w("")

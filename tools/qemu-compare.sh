@@ -13,7 +13,8 @@
 # firmware, its host node's SeatMotion/SeatForce frames are the reference for the float build. Prints, per target, the frames sent
 # and compared, the mismatching frames, whether the records are identical, and the instructions
 # per received frame (mean, percentiles as the upper edge of their 100-instruction bucket, and
-# max, counted by QEMU with -icount shift=0) and the deepest stack the CAN receive interrupt
+# max, counted by QEMU with -icount shift=0; the index of the slowest frame, to trace it with
+# -singlestep -d exec) and the deepest stack the CAN receive interrupt
 # reached (painted stack). Exit status 1 on any difference.
 set -euo pipefail
 
@@ -70,6 +71,7 @@ run_target() {  # preset machine scalar
   p50=$(awk '$1 == "instructions_per_frame_p50" {print $2}' "$dir/qemu.txt")
   p99=$(awk '$1 == "instructions_per_frame_p99" {print $2}' "$dir/qemu.txt")
   p999=$(awk '$1 == "instructions_per_frame_p999" {print $2}' "$dir/qemu.txt")
+  worst_frame=$(awk '$1 == "worst_frame_index" {print $2}' "$dir/qemu.txt")
   stack=$(awk '$1 == "callback_stack_bytes" {print $2}' "$dir/qemu.txt")
   # Frames compared record by record: the count and the ones that differ.
   read -r sent mismatched < <(python3 - "$dir/stickslip-frames.bin" "$dir/host-frames.bin" <<'PY'
@@ -99,7 +101,7 @@ PY
       status=1
     fi
   fi
-  echo "$preset $machine $scalar frames=$frames frames_sent=$sent frames_mismatched=$mismatched frames_verdict=$frames_verdict records=$records$against_ecu instructions_per_frame_mean=$mean instructions_per_frame_p50=$p50 instructions_per_frame_p99=$p99 instructions_per_frame_p999=$p999 instructions_per_frame_max=$max callback_stack_bytes=$stack"
+  echo "$preset $machine $scalar frames=$frames frames_sent=$sent frames_mismatched=$mismatched frames_verdict=$frames_verdict records=$records$against_ecu instructions_per_frame_mean=$mean instructions_per_frame_p50=$p50 instructions_per_frame_p99=$p99 instructions_per_frame_p999=$p999 instructions_per_frame_max=$max worst_frame_index=$worst_frame callback_stack_bytes=$stack"
 }
 run_target cortex-m0plus mps2-an385 fixed
 run_target cortex-m4f mps2-an386 float

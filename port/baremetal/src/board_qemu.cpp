@@ -86,6 +86,7 @@ constexpr std::uint32_t kTicksMask = 0xFFFFFFu;
 constexpr std::uint64_t kInstructionsPerTick = 40;  // 25 MHz processor clock, 1 ns per instruction
 
 std::uint64_t frames = 0, ticks = 0, worst_ticks = 0;
+std::uint64_t worst_frame = 0;  // its index from 0: the frame to trace (-d exec) when it is slow
 // Frames by instructions, in buckets of 100 (the last one: 100 * (kBuckets - 1) and more), for
 // the percentiles.
 constexpr int kBuckets = 2001;
@@ -140,7 +141,10 @@ extern "C" void board_idle() {
     const std::uint32_t after = kSysTick[2];
     const std::uint32_t elapsed = (before - after) & kTicksMask;  // counts down
     ticks += elapsed;
-    if (elapsed > worst_ticks) worst_ticks = elapsed;
+    if (elapsed > worst_ticks) {
+      worst_ticks = elapsed;
+      worst_frame = frames;
+    }
     const std::uint64_t bucket = elapsed * kInstructionsPerTick / 100u;
     ++histogram[bucket < kBuckets ? bucket : kBuckets - 1];
     ++frames;
@@ -169,6 +173,8 @@ extern "C" void board_idle() {
   }
   print("\ninstructions_per_frame_max ");
   print_number(worst_ticks * kInstructionsPerTick);
+  print("\nworst_frame_index ");
+  print_number(worst_frame);
   // The deepest stack below board_idle's frame: the receive interrupt, the step and what they
   // call (board_idle's own locals above the marker excluded).
   print("\ncallback_stack_bytes ");

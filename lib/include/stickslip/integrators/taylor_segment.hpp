@@ -18,6 +18,10 @@ namespace stickslip {
 
 // Highest degree of v_r(u) the plan may ask for; x_r(u) has one degree more.
 inline constexpr int kMaxTaylorOrder = 10;
+// Iterations of the root search (solve_falling) at most: each one that is not a Newton step
+// inside the bracket halves the bracket, so 64 covers the 2^-52 resolution of double from [0, 1];
+// float stops earlier at its own tolerance.
+inline constexpr int kMaxRootIterations = 64;
 
 // Recurrence coefficients for one tick length H, in the tick-normalised time u = tau / H:
 //   X[n+1] = step[n] V[n],  V[n+1] = step[n] G[n] - stiffness[n] X[n] - damping[n] V[n]
@@ -192,7 +196,7 @@ class TaylorSegment {
     const T tolerance = T(4) * S::epsilon() * (S::abs(lo) + S::abs(hi));
     const T inv_tolerance = tolerance > T(0) ? T(1) / tolerance : T(0);
     T u = lo + (hi - lo) * (at_lo / (at_lo - at_hi));
-    for (int iteration = 0; iteration < 64; ++iteration) {
+    for (int iteration = 0; iteration < kMaxRootIterations; ++iteration) {
       const T value = sign * p(u);
       const T gradient = sign * slope(u);
       if (value == T(0)) return u;

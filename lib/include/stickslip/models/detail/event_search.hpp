@@ -10,6 +10,18 @@
 // F_L is linear in time, so the break-away instant is solved for directly. A position inside the
 // step is kept as whole ticks plus a fraction of the next tick, so that the step's end is reached
 // exactly.
+//
+// The work of one step is bounded by the trip counts of its loops (L = event_level_: 16 in
+// floating point, 10 in Q23.40, 4 in Q7.24):
+//   - step_sticking()'s and step_held()'s event loops: at most kMaxEventsPerStep + 1 passes (each
+//     pass but the last locates one event; at the budget the step finishes in its mode, counted);
+//   - slip()'s block walk: at most 2^(L+1) - 1 block maps per step over all its calls, since the
+//     walk only moves forward and evaluates each dyadic block of the step at most once (it starts
+//     at a position only on blocks that start there); lowest_set_bit(): at most L shifts;
+//   - finish_tick_taylor(): at most 2 passes (the second after the start guard), once per slip
+//     phase; the root search inside TaylorSegment: at most kMaxRootIterations; proportion(): F
+//     shift-and-subtract rounds (fixed point).
+// docs/EMBEDDED.md gives what these cost on the Cortex-M targets and the worst frame measured.
 #pragma once
 
 #include "stickslip/integrators/taylor_segment.hpp"

@@ -12,6 +12,7 @@
 #include "oracles.hpp"
 #include "stickslip/core/fixed_point.hpp"
 #include "stickslip/core/fixed_point32.hpp"
+#include "stickslip/integrators/cubic_segment.hpp"
 #include "stickslip/models/oscillator.hpp"
 #include "stickslip/models/scaled_oscillator.hpp"
 
@@ -229,6 +230,133 @@ TEST(ScaledFixedPoint32Oscillator, StickSlipAgreesWithDoubleOnTheLorryScene) {
 // c v_r must fit the format at the declared ranges (4 m/s here): c = 5 s/m gives 20 <= 32.
 TEST(ScaledFixedPoint32Oscillator, HeldLawsAgreeWithDouble) {
   test::check_held_laws_agree_with_double<Q7_24>(5.0, 1e-5);
+}
+
+// The hardest input for the event search (port/baremetal/src/hardest_input.cpp's, which QEMU
+// runs): a_u chosen from the seat's own state so that the limit force -(m a_u + k x_r) lands on
+// +F_fs or -F_fs (alternating every 7 steps) plus an offset of random size (down to 1e-3 m/s^2)
+// and sign, with every fourth 1000 steps full-range jumps, in whole words of SeatInput.a_u
+// (2^-10 m/s^2; finer offsets fall below Q7.24's resolution of the force, 2e-4 m/s^2 in a_u, and
+// would only compare roundings). `step(a_u_m_per_s2)` steps the seats under test; `x_r_m()` reads
+// the double seat's state.
+template <typename Step, typename Position>
+void drive_at_the_break_away_threshold(const OscillatorParams& p, int steps, Step step,
+                                       Position x_r_m) {
+  Bits bits;
+  const auto uniform = [&bits] { return static_cast<double>(bits.next()) / 2147483648.0 - 1.0; };
+  for (int n = 0; n < steps; ++n) {
+    double a_u = 30.0 * uniform();
+    if ((n / 1000) % 4 != 0) {
+      const double side = (n / 7) % 2 == 0 ? 1.0 : -1.0;
+      a_u = -(side * p.static_friction_n + p.stiffness_n_per_m * x_r_m()) / p.mass_kg +
+            uniform() * std::pow(10.0, -3.0 * std::fabs(uniform()));
+    }
+    step(std::round(a_u * 1024.0) / 1024.0);
+  }
+}
+
+// The Q7.24 step locates events on the cubic polynomial of one whole step, not on a grid. Held at
+// the break-away threshold, where every step may stick, break away or reverse, the stuck fraction
+// stays within 1e-3 of double's and T_ax within 5e-4 (measured 4.5e-4 and 1.8e-4; the bisection
+// on ticks of dt/16 with linear interpolation that this replaced was 5.8e-3 off in p here). Not
+// tighter: offsets down to 1e-3 m/s^2 are 5 units of the format's force resolution, so a few
+// decisions at the threshold are the format's rounding. No step runs out of events, and none
+// locates more than the exact solution does.
+TEST(ScaledFixedPoint32Oscillator, AtTheBreakAwayThresholdFollowsDouble) {
+  OscillatorParams p = firmware_params(FrictionModel::stick_slip, Integrator::exact);
+  p.kinetic_friction_n = p.static_friction_n = 45.0;  // the firmware's seat
+  ScaledOscillator<Fixed32, CoulombStickSlip> seat;
+  Oscillator<double, CoulombStickSlip> exact;
+  CHECK(seat.configure(p).ok());
+  CHECK(exact.configure(p).ok());
+  double stuck = 0.0, stuck_exact = 0.0, a_x_sq = 0.0, a_x_sq_exact = 0.0;
+  int most_events = 0, most_events_exact = 0;
+  constexpr int kSteps = 60000;
+  drive_at_the_break_away_threshold(
+      p, kSteps,
+      [&](double a_u) {
+        const auto out = seat.step(seat.acceleration(a_u));
+        const auto out_exact = exact.step(a_u);
+        stuck += ScalarTraits<Fixed32>::to_double(out.stuck_fraction);
+        stuck_exact += out_exact.stuck_fraction;
+        const double a_x = seat.to_si_acceleration(out.a_x_m_per_s2);
+        a_x_sq += a_x * a_x;
+        a_x_sq_exact += out_exact.a_x_m_per_s2 * out_exact.a_x_m_per_s2;
+        most_events = out.events > most_events ? out.events : most_events;
+        most_events_exact =
+            out_exact.events > most_events_exact ? out_exact.events : most_events_exact;
+      },
+      [&] { return exact.x_r(); });
+  DOUBLES_EQUAL(stuck_exact / kSteps, stuck / kSteps, 1e-3);
+  DOUBLES_EQUAL(1.0, std::sqrt(a_x_sq / a_x_sq_exact), 5e-4);
+  CHECK(stuck_exact / kSteps > 0.2);  // the input does hold the seat at the threshold
+  LONGS_EQUAL(0, seat.oscillator().event_budget_exhausted());
+  LONGS_EQUAL(0, seat.oscillator().saturated_steps());
+  CHECK(most_events >= 2);
+  CHECK(most_events <= most_events_exact);
+}
+
+// The cubic segment of one step in scene units against the exact solution of a damped free
+// oscillation (x_r = A e^(-zeta w t) cos(w_d t)), whose n-th derivative is at most A w^n: position
+// and velocity within the Taylor remainders A w^5/120 (x_r, degree 4) and A w^5/24 (v_r, degree 3)
+// plus a few units of the last place over the whole step, and the crossing of v_r = 0 inside the
+// step at the exact instant to within the velocity's error over the slope there.
+TEST(ScaledFixedPoint32Oscillator, CubicSegmentIsTheExactSolutionToTheFormatsResolution) {
+  // Scene units: dt = 1, the reference seat's w dt = 0.0114 and zeta = 0.25; an oscillation fast
+  // enough (w = 0.3 per step) to put a turning point inside one step, so that the test sees a dip.
+  const double w = 0.3, zeta = 0.25, wd = w * std::sqrt(1.0 - zeta * zeta);
+  const double k_over_m = w * w, b_over_m = 2.0 * zeta * w;
+  const auto x_at = [&](double t) { return 0.5 * std::exp(-zeta * w * t) * std::cos(wd * t); };
+  const auto v_at = [&](double t) {
+    return 0.5 * std::exp(-zeta * w * t) * (-zeta * w * std::cos(wd * t) - wd * std::sin(wd * t));
+  };
+  const double eps = ScalarTraits<Fixed32>::to_double(ScalarTraits<Fixed32>::epsilon());
+  // Start 0.4 steps before v_r = 0 at t = (atan(-zeta w / wd) + pi) / wd.
+  const double t_zero = (std::atan(-zeta * w / wd) + std::acos(-1.0)) / wd;
+  const double t0 = t_zero - 0.4;
+  const double x0 = x_at(t0), v0 = v_at(t0);
+  const double a0 = -(k_over_m * x0 + b_over_m * v0);
+  const double j0 = -(k_over_m * v0 + b_over_m * a0);
+  const double s0 = -(k_over_m * a0 + b_over_m * j0);
+  const auto q = [](double value) { return Fixed32(value); };
+  const CubicSegment<Fixed32> segment(q(x0), q(v0), q(a0), q(j0), q(s0), q(1.0));
+  // The remainders (at the reference seat's w dt = 0.0114 they are 1e-11 of A, below the
+  // resolution; this fast oscillation makes them visible).
+  const double x_remainder = 0.5 * std::pow(w, 5) / 120.0 + 8 * eps;
+  const double v_remainder = 0.5 * std::pow(w, 5) / 24.0 + 8 * eps;
+  for (int i = 0; i <= 8; ++i) {
+    const double u = i / 8.0;
+    DOUBLES_EQUAL(x_at(t0 + u), ScalarTraits<Fixed32>::to_double(segment.position(q(u))),
+                  x_remainder);
+    DOUBLES_EQUAL(v_at(t0 + u), ScalarTraits<Fixed32>::to_double(segment.velocity(q(u))),
+                  v_remainder);
+  }
+  // v_r d falls through 0 at u = 0.4, d the direction of v_r at the start.
+  const Fixed32 d(v0 > 0.0 ? 1.0 : -1.0);
+  Fixed32 root;
+  CHECK(segment.first_crossing(d, q(1.0), root));
+  const double slope = k_over_m * std::fabs(x_at(t_zero));  // |dv_r/dt| where v_r = 0
+  DOUBLES_EQUAL(0.4, ScalarTraits<Fixed32>::to_double(root), v_remainder / slope);
+}
+
+// From rest, a slip that starts with a_r d > 0 does not cross 0 at its start, however small a_r is
+// against the format's resolution (v_r itself is below it there): the search runs on v_r / u.
+TEST(ScaledFixedPoint32Oscillator, CubicSegmentFromRestDoesNotCrossAtItsStart) {
+  using S = ScalarTraits<Fixed32>;
+  const Fixed32 a0 = Fixed32::from_raw(3);  // 1.8e-7: v_r(2^-16) is 3e-12, 0 in the format
+  const Fixed32 jerk(-4e-4);                // turns v_r back: it crosses 0 at u = 2 a0 / |jerk|
+  const CubicSegment<Fixed32> segment(Fixed32(0.01), Fixed32(0.0), a0, jerk, Fixed32(0.0),
+                                      Fixed32(1.0));
+  Fixed32 root;
+  CHECK(segment.first_crossing(Fixed32(1.0), Fixed32(1.0), root));
+  // v_r / u = a0 + (jerk / 2) u is linear: the root to the rounding of jerk / 2 (half a unit of
+  // the last place in 3355 of them).
+  const double expected = 2.0 * S::to_double(a0) / -S::to_double(jerk);
+  DOUBLES_EQUAL(expected, S::to_double(root), 2e-4 * expected);
+  // Rising throughout: no crossing at all.
+  const CubicSegment<Fixed32> rising(Fixed32(0.01), Fixed32(0.0), a0, -jerk, Fixed32(0.0),
+                                     Fixed32(1.0));
+  CHECK_FALSE(rising.first_crossing(Fixed32(1.0), Fixed32(1.0), root));
 }
 
 // Beyond the declared input range the step saturates and says so: counted per step, outputs

@@ -395,6 +395,8 @@ struct FixedPointTraits {
   // The event search bisects on the dyadic grid and interpolates inside the last tick (the
   // integer path: no Taylor polynomials with coefficients below the resolution).
   static constexpr bool kTaylorEventSearch = false;
+  // Q7.24 in scene units overrides: one tick per step, the cubic polynomial inside it.
+  static constexpr bool kCubicEventSearch = false;
   static constexpr bool kTracksSaturation = true;
   // Reads and clears the sticky saturation flag (the oscillator, after each step).
   static bool take_saturation() noexcept { return take_fixed_point_saturation(); }

@@ -32,8 +32,10 @@ struct ScalarTraits;
 template <typename Float>
 struct FloatScalarTraits {
   // The exact integrator's event search solves the Taylor polynomial inside a tick (a fixed-point
-  // scalar bisects and interpolates instead).
+  // scalar bisects and interpolates, or solves a cubic over the whole step, instead).
   static constexpr bool kTaylorEventSearch = true;
+  // One tick per step with the cubic polynomial inside it: fixed point in scene units only.
+  static constexpr bool kCubicEventSearch = false;
   // Saturation cannot happen: IEEE overflow gives Inf, which the step's guards handle.
   static constexpr bool kTracksSaturation = false;
   // The common path's whole slipping step stays inline (no call: the host's speed).

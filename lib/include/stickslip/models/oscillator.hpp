@@ -95,7 +95,8 @@ class Oscillator {
     }
     // The event search: bisection down to ticks of dt / 2^event_level_, then the Taylor
     // polynomial of the exact solution (exact integrator) or linear interpolation inside a tick.
-    // (A fixed-point scalar always bisects and interpolates, in ticks of its own size.)
+    // (A fixed-point scalar bisects and interpolates in ticks of its own size, or with one tick
+    // per step solves the cubic polynomial inside it: ScalarTraits::kCubicEventSearch.)
     EventSearchPlan plan{kEventLevels, 0};
     if constexpr (S::kTaylorEventSearch) {
       plan = event_search_plan(params, S::to_double(ScalarTraits<T>::epsilon()));
@@ -366,8 +367,14 @@ class Oscillator {
   static int lowest_set_bit(unsigned value) noexcept;
   T rest_rounding_velocity(int level, T x, T force_n, T a_u_start, const Input& in) const noexcept;
   static void advance_within_tick(Position& pos, T fraction) noexcept;
+  template <typename Segment>
+  STICKSLIP_COMPACT_INLINE static bool end_on_segment(const Segment& segment, bool found, T root,
+                                                      T u_start, Position& pos, T& x,
+                                                      T& v) noexcept;
   bool finish_tick_taylor(Position& pos, T& x, T& v, T d, const Input& in, T force_n,
                           bool starting) const noexcept;
+  STICKSLIP_COMPACT_INLINE bool finish_tick_cubic(Position& pos, T& x, T& v, T d, const Input& in,
+                                                  T force_n, bool starting) const noexcept;
   STICKSLIP_COMPACT_INLINE bool finish_tick_interpolated(Position& pos, T& x, T& v, T d,
                                                          const Input& in, T force_n,
                                                          bool starting) const noexcept;

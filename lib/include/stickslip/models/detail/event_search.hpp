@@ -11,8 +11,11 @@
 // step is kept as whole ticks plus a fraction of the next tick, so that the step's end is reached
 // exactly.
 //
+// Q7.24 (ScalarTraits::kCubicEventSearch) takes the whole step as one tick and finds the crossing
+// on the cubic polynomial of the exact solution over it (finish_tick_cubic()): no bisection.
+//
 // The work of one step is bounded by the trip counts of its loops (L = event_level_: 16 in
-// floating point, 10 in Q23.40, 4 in Q7.24):
+// floating point, 10 in Q23.40, 0 in Q7.24):
 //   - step_sticking()'s and step_held()'s event loops: at most kMaxEventsPerStep + 1 passes (each
 //     pass but the last locates one event; at the budget the step finishes in its mode, counted);
 //   - slip()'s block walk: at most 2^(L+1) - 1 block maps per step over all its calls, since the
@@ -20,10 +23,13 @@
 //     at a position only on blocks that start there); lowest_set_bit(): at most L shifts;
 //   - finish_tick_taylor(): at most 2 passes (the second after the start guard), once per slip
 //     phase; the root search inside TaylorSegment: at most kMaxRootIterations; proportion(): F
-//     shift-and-subtract rounds (fixed point).
+//     shift-and-subtract rounds (fixed point);
+//   - Q7.24: no block walk; finish_tick_cubic() once per slip phase, its root search at most
+//     kMaxCubicRootIterations iterations (and one proportion for a dip's minimum).
 // docs/EMBEDDED.md gives what these cost on the Cortex-M targets and the worst frame measured.
 #pragma once
 
+#include "stickslip/integrators/cubic_segment.hpp"
 #include "stickslip/integrators/taylor_segment.hpp"
 #include "stickslip/models/oscillator.hpp"
 #include "stickslip/models/step_common.hpp"
@@ -107,6 +113,26 @@ inline void Oscillator<T, Law>::advance_within_tick(Position& pos, T fraction) n
   }
 }
 
+// The end of a tick's finish on a segment of the exact solution (TaylorSegment, CubicSegment)
+// started at u_start in the tick: at `root` with v_r = 0 if a crossing was found there, else at
+// the tick's end. Returns `found`.
+template <typename T, typename Law>
+template <typename Segment>
+inline bool Oscillator<T, Law>::end_on_segment(const Segment& segment, bool found, T root,
+                                               T u_start, Position& pos, T& x, T& v) noexcept {
+  if (found) {
+    x = segment.position(root);
+    v = T(0);
+    advance_within_tick(pos, u_start + root);
+    return true;
+  }
+  x = segment.position(T(1) - u_start);
+  v = segment.velocity(T(1) - u_start);
+  ++pos.tick;
+  pos.frac = T(0);
+  return false;
+}
+
 // Exact integrator: from `pos` inside a tick (or at a slip start) to the end of that tick on
 // the Taylor polynomial of the exact solution, with the friction force_n held. Returns true
 // with v_r = 0 and `pos` at the first instant where v_r d turns negative (d != 0).
@@ -138,18 +164,10 @@ inline bool Oscillator<T, Law>::finish_tick_taylor(Position& pos, T& x, T& v, T 
         }
       }
       T root = T(0);
-      if (segment.first_crossing(d, lo, span, at_lo, root)) {
-        x = segment.position(root);
-        v = T(0);
-        advance_within_tick(pos, u_start + root);
-        return true;
-      }
+      const bool found = segment.first_crossing(d, lo, span, at_lo, root);
+      return end_on_segment(segment, found, root, u_start, pos, x, v);
     }
-    x = segment.position(span);
-    v = segment.velocity(span);
-    ++pos.tick;
-    pos.frac = T(0);
-    return false;
+    return end_on_segment(segment, false, T(0), u_start, pos, x, v);
   }
 }
 
@@ -184,6 +202,26 @@ inline bool Oscillator<T, Law>::finish_tick_interpolated(Position& pos, T& x, T&
   return false;
 }
 
+// Fixed point with one tick per step (ScalarTraits::kCubicEventSearch): from `pos` inside the
+// tick (or at a slip start) to its end on the cubic Taylor polynomial of the exact solution
+// (integrators/cubic_segment.hpp), friction force_n held, as finish_tick_taylor() does with its
+// polynomial. Returns true with v_r = 0 and `pos` at the first instant where v_r d turns negative.
+template <typename T, typename Law>
+inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d, const Input& in,
+                                                  T force_n, bool starting) const noexcept {
+  const T span = T(1) - pos.frac;
+  T a = relative_acceleration(x, v, force_n, in.at(phi(pos)));
+  // A slip phase starts at rest with a_r d >= 0 (the stick decision): the opposite sign is
+  // rounding. (The search from rest needs no start guard: see CubicSegment::first_crossing().)
+  if (starting && a * d < T(0)) a = T(0);
+  const T jerk = -(k_over_m_ * v + b_over_m_ * a) - (in.a1 - in.a0) * inv_dt_;
+  const T snap = -(k_over_m_ * a + b_over_m_ * jerk);
+  const CubicSegment<T> segment(x, v, a, jerk, snap, tick_s_);
+  T root = T(0);
+  const bool found = d != T(0) && segment.first_crossing(d, span, root);
+  return end_on_segment(segment, found, root, pos.frac, pos, x, v);
+}
+
 // Integrates from `pos` to the end of the step with the given friction. With direction d != 0,
 // stops at the first instant where v_r*d turns negative: returns true with v_r = 0 and `pos` at
 // that instant. d = 0 integrates to the end without looking for events.
@@ -196,6 +234,11 @@ template <typename Force>
 inline bool Oscillator<T, Law>::slip(Position& pos, T& x, T& v, T d, const Input& in,
                                      const Force& force, bool starting,
                                      const WholeSlip<T>* whole_step) const noexcept {
+  if constexpr (S::kCubicEventSearch) {
+    // One tick per step: its polynomial finds the crossing, a dip included, with no block maps.
+    (void)whole_step;
+    return pos.tick < ticks_per_step_ && finish_tick_cubic(pos, x, v, d, in, force(v), starting);
+  }
   if (pos.tick < ticks_per_step_ && (pos.frac > T(0) || starting)) {
     if (taylor_search()) {
       if (finish_tick_taylor(pos, x, v, d, in, force(v), starting)) return true;

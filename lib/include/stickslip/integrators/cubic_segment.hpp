@@ -1,0 +1,115 @@
+// The exact solution over one tick, friction held, as its Taylor polynomials to degree 3 in v_r
+// and 4 in x_r: the event search of a fixed-point scalar that takes the whole step as one tick
+// (ScalarTraits::kCubicEventSearch, the Q7.24 build). In scene units (dt = 1) the first term left
+// out is a fifth derivative times 1/120, at most ((k/m)^2 + (b/m)^4) dt^4 / 120 of the state's
+// scale, 1e-9 for the reference seat at dt = 1 ms, below Q7.24's resolution of 6e-8: over one
+// step the polynomials are the exact solution to the format's rounding, so an event is located
+// without bisecting the step. Multiplies, adds and ScalarTraits::proportion() only: no division.
+#pragma once
+
+#include "stickslip/core/scalar.hpp"
+
+namespace stickslip {
+
+// Root-search iterations at most (regula falsi, Illinois variant): each iteration gains a factor
+// of at least the curvature ratio of the polynomial over the bracket, and the Illinois halving
+// makes it superlinear, so 6 reach the 2^-24 resolution from a bracket of one step.
+inline constexpr int kMaxCubicRootIterations = 6;
+
+// c[0] + c[1] u + c[2] u^2 + c[3] u^3, a view of four coefficients kept elsewhere.
+template <typename T>
+struct Cubic {
+  const T* c;
+  STICKSLIP_COMPACT_INLINE T operator()(T u) const noexcept { return c[0] + u * (c[1] + u * (c[2] + u * c[3])); }
+  STICKSLIP_COMPACT_INLINE T slope(T u) const noexcept { return c[1] + u * (T(2) * c[2] + u * (T(3) * c[3])); }
+};
+
+template <typename T>
+class CubicSegment {
+  using S = ScalarTraits<T>;
+
+ public:
+  // From (x0, v0) with the relative acceleration a0, its rate of change (jerk) and that one's
+  // (snap) at the start, u in ticks of tick_s seconds.
+  CubicSegment(T x0, T v0, T a0, T jerk, T snap, T tick_s) noexcept : x0_(x0), tick_s_(tick_s) {
+    const T h2 = tick_s * tick_s;
+    v_[0] = v0;
+    v_[1] = a0 * tick_s;
+    v_[2] = jerk * h2 * T(0.5);
+    v_[3] = snap * (h2 * tick_s) * T(1.0 / 6.0);
+    v_[4] = T(0);
+  }
+
+  // x_r is the integral of v_r: its coefficients are formed from v_r's where it is evaluated (at
+  // a root and at the tick's end), so that the segment holds six numbers, not ten (the Cortex-M0+
+  // step's stack budget).
+  T position(T u) const noexcept {
+    const T sum = v_[0] + u * (v_[1] * T(0.5) + u * (v_[2] * T(1.0 / 3.0) + u * (v_[3] * T(0.25))));
+    return x0_ + u * (tick_s_ * sum);
+  }
+  T velocity(T u) const noexcept { return Cubic<T>{v_}(u); }
+
+  // The first u in (0, hi] at which v_r d turns negative, given v_r d >= 0 at 0. False if v_r d
+  // stays >= 0 on the interval. From rest (v_r = 0 at u = 0, a slip starting there) the search
+  // runs on v_r / u, whose value at 0 is the initial acceleration: near u = 0, v_r itself is
+  // below the format's resolution and would fake a crossing there.
+  STICKSLIP_COMPACT_INLINE bool first_crossing(T d, T hi, T& root) const noexcept {
+    return first_crossing(Cubic<T>{v_[0] == T(0) ? v_ + 1 : v_}, d, hi, root);
+  }
+
+ private:
+  // The first u in (0, hi] at which p d turns negative, given p(0) d >= 0: a sign change at hi,
+  // or a dip (p d falls below zero inside and rises again). p is a cubic with a tiny cubic term
+  // (of relative size (b/m) dt), so it has at most one minimum in a tick. The minimum is taken
+  // where the slope's linear part vanishes, u = -c1 / (2 c2): p is flat there, so the cubic term's
+  // shift of that place changes the value found at it to second order only.
+  STICKSLIP_COMPACT_INLINE static bool first_crossing(Cubic<T> p, T d, T hi, T& root) noexcept {
+    const T at_start = along(d, p.c[0]);
+    T end = hi;
+    T at_end = along(d, p(hi));
+    if (!(at_end < T(0))) {
+      const T falling = -along(d, p.c[1]);
+      const T turning = along(d, p.c[2]);
+      if (!(falling > T(0) && turning > T(0) && along(d, p.slope(hi)) > T(0))) return false;
+      end = S::proportion(falling, turning + turning);
+      end = end < hi ? end : hi;
+      at_end = along(d, p(end));
+      if (!(at_end < T(0))) return false;
+    }
+    root = at_start > T(0) ? falling_root(p, d, at_start, end, at_end) : T(0);
+    return true;
+  }
+
+  static T along(T d, T value) noexcept { return d < T(0) ? -value : value; }
+
+  // The root in (0, hi) of f = p d, given f(0) = at_lo > 0 > f(hi) = at_hi: regula falsi keeps
+  // the root bracketed; the Illinois variant halves the value kept at an end that stays twice,
+  // so that both ends close in.
+  STICKSLIP_COMPACT_INLINE static T falling_root(Cubic<T> p, T d, T at_lo, T hi,
+                                                 T at_hi) noexcept {
+    T lo = T(0);
+    int kept = 0;  // -1: lo stayed last time, +1: hi did
+    for (int iteration = 0; iteration < kMaxCubicRootIterations; ++iteration) {
+      const T u = lo + (hi - lo) * S::proportion(at_lo, at_lo - at_hi);
+      const T value = along(d, p(u));
+      if (value == T(0) || !(u > lo && u < hi)) return u;
+      if (value > T(0)) {
+        lo = u;
+        at_lo = value;
+        if (kept > 0) at_hi = at_hi * T(0.5);
+        kept = 1;
+      } else {
+        hi = u;
+        at_hi = value;
+        if (kept < 0) at_lo = at_lo * T(0.5);
+        kept = -1;
+      }
+    }
+    return lo + (hi - lo) * S::proportion(at_lo, at_lo - at_hi);
+  }
+
+  T x0_, tick_s_;
+  T v_[5];  // v_r's coefficients and a 0: v_ + 1 is v_r / u when v_[0] = 0
+};
+
+}  // namespace stickslip

@@ -20,8 +20,12 @@ inline constexpr int kMaxCubicRootIterations = 6;
 template <typename T>
 struct Cubic {
   const T* c;
-  STICKSLIP_COMPACT_INLINE T operator()(T u) const noexcept { return c[0] + u * (c[1] + u * (c[2] + u * c[3])); }
-  STICKSLIP_COMPACT_INLINE T slope(T u) const noexcept { return c[1] + u * (T(2) * c[2] + u * (T(3) * c[3])); }
+  STICKSLIP_COMPACT_INLINE T operator()(T u) const noexcept {
+    return c[0] + u * (c[1] + u * (c[2] + u * c[3]));
+  }
+  STICKSLIP_COMPACT_INLINE T slope(T u) const noexcept {
+    return c[1] + u * (T(2) * c[2] + u * (T(3) * c[3]));
+  }
 };
 
 template <typename T>
@@ -85,8 +89,7 @@ class CubicSegment {
   // The root in (0, hi) of f = p d, given f(0) = at_lo > 0 > f(hi) = at_hi: regula falsi keeps
   // the root bracketed; the Illinois variant halves the value kept at an end that stays twice,
   // so that both ends close in.
-  STICKSLIP_COMPACT_INLINE static T falling_root(Cubic<T> p, T d, T at_lo, T hi,
-                                                 T at_hi) noexcept {
+  STICKSLIP_COMPACT_INLINE static T falling_root(Cubic<T> p, T d, T at_lo, T hi, T at_hi) noexcept {
     T lo = T(0);
     int kept = 0;  // -1: lo stayed last time, +1: hi did
     for (int iteration = 0; iteration < kMaxCubicRootIterations; ++iteration) {

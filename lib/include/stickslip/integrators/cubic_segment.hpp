@@ -1,10 +1,11 @@
 // The exact solution over one tick, friction held, as its Taylor polynomials to degree 3 in v_r
 // and 4 in x_r: the event search of a fixed-point scalar that takes the whole step as one tick
-// (ScalarTraits::kCubicEventSearch, the Q7.24 build). In scene units (dt = 1) the first term left
-// out is a fifth derivative times 1/120, at most ((k/m)^2 + (b/m)^4) dt^4 / 120 of the state's
-// scale, 1e-9 for the reference seat at dt = 1 ms, below Q7.24's resolution of 6e-8: over one
-// step the polynomials are the exact solution to the format's rounding, so an event is located
-// without bisecting the step. Multiplies, adds and ScalarTraits::proportion() only: no division.
+// (ScalarTraits::kCubicEventSearch, the Q7.24 build). In scene units (dt = 1) the first terms
+// left out are v_r's fourth derivative times 1/24 and x_r's fifth times 1/120, at most about
+// ((k/m)^2 + (b/m)^4) dt^4 / 24 of the state's scale: 7e-10 for the reference seat at dt = 1 ms,
+// below Q7.24's resolution of 6e-8. Over one step the polynomials are the exact solution to the
+// format's rounding, so an event is located without bisecting the step. Multiplies, adds and
+// ScalarTraits::proportion() only: no division.
 #pragma once
 
 #include "stickslip/core/scalar.hpp"

@@ -195,9 +195,9 @@ template <int F>
 struct ScalarTraits<FixedPoint32<F>> : FixedPointTraits<FixedPoint32<F>> {
   // One tick per step, and inside it the cubic Taylor polynomial of the exact solution
   // (integrators/cubic_segment.hpp): in scene units (dt = 1) it is the exact solution to the
-  // format's rounding over a whole step, so an event is located without bisecting the step into
-  // blocks, each a step map of about 25 products (a walk of up to 31 blocks with ticks of dt/16,
-  // 75,000 instructions per frame on the Cortex-M0+).
+  // format's rounding over a whole step, so an event is located without bisecting the step.
+  // Bisecting into ticks of dt/16 walks up to 31 blocks, each a step map of about 25 products:
+  // 75,000 instructions per frame on the Cortex-M0+ (docs/EMBEDDED.md).
   static constexpr int kEventTickLevel = 0;
   static constexpr bool kCubicEventSearch = true;
   // The M0+ build: the common path's whole slipping step out of line, so that its temporaries

@@ -82,18 +82,31 @@ void configure_node(can::EcuNode<Seat>& node, can::OutputSet outputs) {
   CHECK(node.configure(params) == Status::ok);
 }
 
+// The host `ecu` node in float with the firmware's outputs and gap policy, for the seat `params`.
+host::EcuNodeConfig host_float_node(const OscillatorParams& params) {
+  host::EcuNodeConfig config;
+  config.setup.params = params;
+  config.scalar = host::ScalarType::float32;
+  config.outputs = can::OutputSet::motion;
+  config.checker.max_gap = 10;
+  return config;
+}
+
+// Frames of `a` whose bytes differ from the frame at the same place in `b` (same length).
+std::size_t mismatched_frames(const std::vector<can::Frame>& a, const std::vector<can::Frame>& b) {
+  std::size_t mismatched = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (!same_bytes(a[i], b[i])) ++mismatched;
+  return mismatched;
+}
+
 }  // namespace
 
 TEST_GROUP(LibEcuNode){};
 
 TEST(LibEcuNode, FloatSeatSendsTheHostEcuNodesFramesByteForByteThroughFaults) {
   const std::vector<can::Frame> stream = faulty_stream(4000);
-  host::EcuNodeConfig config;
-  config.setup.params = firmware_seat();
-  config.scalar = host::ScalarType::float32;
-  config.outputs = can::OutputSet::motion;
-  config.checker.max_gap = 10;
-  host::EcuNode host_node(config);
+  host::EcuNode host_node(host_float_node(firmware_seat()));
   std::vector<can::Frame> host_frames;
   for (const can::Frame& frame : stream) host_node.on_frame(frame, 0, host_frames);
 
@@ -107,9 +120,7 @@ TEST(LibEcuNode, FloatSeatSendsTheHostEcuNodesFramesByteForByteThroughFaults) {
   LONGS_EQUAL(4000, lib.samples);
   LONGS_EQUAL(8000, lib.frames.size());
   LONGS_EQUAL(host_frames.size(), lib.frames.size());
-  std::size_t mismatched = 0;
-  for (std::size_t i = 0; i < lib.frames.size(); ++i)
-    if (!same_bytes(lib.frames[i], host_frames[i])) ++mismatched;
+  const std::size_t mismatched = mismatched_frames(lib.frames, host_frames);
   LONGS_EQUAL(0, mismatched);
   // The faults were seen, and counted alike.
   const can::FaultCounters& c = node.counters();
@@ -121,13 +132,9 @@ TEST(LibEcuNode, FloatSeatSendsTheHostEcuNodesFramesByteForByteThroughFaults) {
 TEST(LibEcuNode, AChangedSeatIsCaughtByTheFrameComparison) {
   // The comparison above can fail: a seat with 1 N less friction sends other frames.
   const std::vector<can::Frame> stream = faulty_stream(4000);
-  host::EcuNodeConfig config;
-  config.setup.params = firmware_seat();
-  config.setup.params.kinetic_friction_n = config.setup.params.static_friction_n = 44.0;
-  config.scalar = host::ScalarType::float32;
-  config.outputs = can::OutputSet::motion;
-  config.checker.max_gap = 10;
-  host::EcuNode host_node(config);
+  OscillatorParams changed = firmware_seat();
+  changed.kinetic_friction_n = changed.static_friction_n = 44.0;
+  host::EcuNode host_node(host_float_node(changed));
   std::vector<can::Frame> host_frames;
   for (const can::Frame& frame : stream) host_node.on_frame(frame, 0, host_frames);
   can::EcuNode<can::OscillatorSeat<float, CoulombStickSlip>> node;
@@ -135,9 +142,7 @@ TEST(LibEcuNode, AChangedSeatIsCaughtByTheFrameComparison) {
   Collect lib;
   for (const can::Frame& frame : stream) node.on_frame(frame, 0, lib);
   LONGS_EQUAL(host_frames.size(), lib.frames.size());
-  std::size_t mismatched = 0;
-  for (std::size_t i = 0; i < lib.frames.size(); ++i)
-    if (!same_bytes(lib.frames[i], host_frames[i])) ++mismatched;
+  const std::size_t mismatched = mismatched_frames(lib.frames, host_frames);
   CHECK(mismatched > 1000);
 }
 

@@ -22,14 +22,8 @@ using namespace stickslip;
 
 namespace {
 
-using test::end_stop::counted_history;
-using test::end_stop::History;
-using test::end_stop::kDt;
-using test::end_stop::rms;
-using test::end_stop::run_history;
-using test::end_stop::seat;
-using test::end_stop::stops;
-using test::end_stop::wideband;
+// The shared scenes, seats and histories (end_stop_scenarios.hpp).
+using namespace test::end_stop;
 
 template <typename T, typename Law>
 History end_stop_history(const OscillatorParams& p, const EndStopParams& s,
@@ -92,22 +86,20 @@ TEST(EndStopFixedPoint, StopsOutOfReachEqualThePlainFixedOscillatorToItsRounding
       const bool sticking = model == FrictionModel::stick_slip;
       const OscillatorParams p = seat(model, damping, sticking ? 25.0 : 0.0, 30.0);
       History fixed_plain, double_plain, got;
+      const auto run_all = [&](auto law) {
+        using Law = decltype(law);
+        Oscillator<Fixed, Law> plain;
+        CHECK_TRUE(plain.configure(p).ok());
+        fixed_plain = run_history(plain, a_u);
+        Oscillator<double, Law> exact;
+        CHECK_TRUE(exact.configure(p).ok());
+        double_plain = run_history(exact, a_u);
+        got = end_stop_history<Fixed, Law>(p, stops(10.0, 0.0), a_u);
+      };
       if (sticking) {
-        Oscillator<Fixed, CoulombStickSlip> plain;
-        CHECK_TRUE(plain.configure(p).ok());
-        fixed_plain = run_history(plain, a_u);
-        Oscillator<double, CoulombStickSlip> exact;
-        CHECK_TRUE(exact.configure(p).ok());
-        double_plain = run_history(exact, a_u);
-        got = end_stop_history<Fixed, CoulombStickSlip>(p, stops(10.0, 0.0), a_u);
+        run_all(CoulombStickSlip{});
       } else {
-        Oscillator<Fixed, NoFriction> plain;
-        CHECK_TRUE(plain.configure(p).ok());
-        fixed_plain = run_history(plain, a_u);
-        Oscillator<double, NoFriction> exact;
-        CHECK_TRUE(exact.configure(p).ok());
-        double_plain = run_history(exact, a_u);
-        got = end_stop_history<Fixed, NoFriction>(p, stops(10.0, 0.0), a_u);
+        run_all(NoFriction{});
       }
       const Deviation spread = deviation(fixed_plain, double_plain, 20.0);
       const Deviation to_plain = deviation(got, fixed_plain, 20.0);

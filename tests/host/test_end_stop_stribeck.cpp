@@ -25,14 +25,8 @@ using namespace stickslip::host;
 
 namespace {
 
-using test::end_stop::counted_history;
-using test::end_stop::History;
-using test::end_stop::kDt;
-using test::end_stop::rms;
-using test::end_stop::run_history;
-using test::end_stop::seat;
-using test::end_stop::stops;
-using test::end_stop::wideband;
+// The shared scenes, seats and histories (end_stop_scenarios.hpp).
+using namespace test::end_stop;
 
 template <typename Law>
 History end_stop_history(const OscillatorParams& p, const EndStopParams& s,

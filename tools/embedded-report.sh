@@ -305,54 +305,81 @@ for line in open(f"{work}/worst.txt"):
     parts = line.split()
     if parts and parts[0] == "worst":
         fields = dict(p.split("=", 1) for p in parts[2:] if "=" in p)
-        fields["verdict"] = parts[-1]
+        fields["verdict"] = parts[4]  # after max= and limit=: ok or OVER
         worst[parts[1]] = fields
     elif len(parts) > 3 and parts[0] in ("cortex-m0plus", "cortex-m4f"):
         hard[parts[0]] = dict(p.split("=", 1) for p in parts[3:] if "=" in p)
 w("## Bound on the work of one step")
 w("")
-w("| build | hardest set: frames | median | 99.9 % | worst frame (index) | its limit | lorry: worst / median | target | met |")
-w("|---|---|---|---|---|---|---|---|---|")
-targets = {"cortex-m0plus": (4000, 5.0), "cortex-m4f": (600, None)}
+w("| build | hardest set: frames | median | 99.9 % | worst frame (index) | worst / median | its limit | lorry: worst / median | target | met |")
+w("|---|---|---|---|---|---|---|---|---|---|")
+# Percentiles are the upper edges of 100-instruction buckets: a ratio to the median is taken at
+# the bucket's lower edge, the smallest the median can be.
+def ratio(top, p50):
+    return top / max(p50 - 100, 1)
 for preset in ("cortex-m0plus", "cortex-m4f"):
     h, v, q = hard.get(preset, {}), worst.get(preset, {}), qemu[preset]
-    hard_max = int(h.get("instructions_per_frame_max", 0))
+    hard_max, hard_p50 = int(h.get("instructions_per_frame_max", 0)), int(h.get("instructions_per_frame_p50", 0))
     lorry_max, lorry_p50 = int(q["instructions_per_frame_max"]), int(q["instructions_per_frame_p50"])
-    target, ratio = targets[preset]
-    met = hard_max <= target and lorry_max <= target and (ratio is None or lorry_max <= ratio * lorry_p50)
-    target_text = f"worst <= {target}" + (f" and <= {ratio:.0f}x median" if ratio else "")
-    w(f"| {preset} | {h.get('frames', '?')} | {h.get('instructions_per_frame_p50', '?')} | "
-      f"{h.get('instructions_per_frame_p999', '?')} | {hard_max} ({h.get('worst_frame_index', '?')}) | "
+    if preset == "cortex-m0plus":
+        target_text = "worst <= 4000; worst <= 5x median"
+        bound_met = hard_max <= 4000 and lorry_max <= 4000
+        ratio_met = ratio(hard_max, hard_p50) <= 5.0 and ratio(lorry_max, lorry_p50) <= 5.0
+        met = f"{'yes' if bound_met else '**no**'}; {'yes' if ratio_met else '**no**'}"
+    else:
+        target_text = "worst <= 600"
+        met = "yes" if hard_max <= 600 and lorry_max <= 600 else "**no**"
+    w(f"| {preset} | {h.get('frames', '?')} | {hard_p50} | {h.get('instructions_per_frame_p999', '?')} | "
+      f"{hard_max} ({h.get('worst_frame_index', '?')}) | {ratio(hard_max, hard_p50):.2f}x | "
       f"{v.get('limit', '?')} ({v.get('verdict', '?')}) | {lorry_max} / {lorry_p50} = "
-      f"{lorry_max / lorry_p50:.1f}x | {target_text} | {'yes' if met else '**no**'} |")
+      f"{ratio(lorry_max, lorry_p50):.2f}x | {target_text} | {met} |")
 w("")
 w("*Hardest set*: 60 s from `stickslip_node_hardest_input` (`port/baremetal/src/hardest_input.cpp`): "
   "a_u chosen sample by sample from the state of a double seat so that the limit force lands on "
   "+F_fs or -F_fs (alternating every 7 samples) with an offset of random size, and every fourth "
   "second full-range jumps, so that steps with events, several events and slips that come to "
-  "rest inside a step are as frequent as the physics allows. Its frames are compared with the "
-  "host build's as above, and CTest `embedded.worst_frame_on_hardest_input_within_limit` fails if "
-  "a worst frame exceeds its limit (`tools/qemu-worst-case.sh`): a regression limit 5 % above "
-  "this code's measured worst, **not** the target, which neither build meets. The frame counts "
-  "include the ECU node around the step.")
+  "rest inside a step are as frequent as the physics allows (it reaches the 3 events a step "
+  "can hold, below). Its frames are compared with the host build's as above. CTest "
+  "`embedded.worst_frame_on_hardest_input_within_limit` (`tools/qemu-worst-case.sh`) fails if a "
+  "worst frame exceeds its limit, a regression limit 5 % above this code's measured worst and "
+  "**not** the 4,000 or 600 target, which neither build meets, or if the Cortex-M0+ worst exceeds "
+  "5 times the median, the target it meets. A ratio to the median is taken at the lower edge of "
+  "the median's 100-instruction bucket, the smallest the median can be. The frame counts include "
+  "the ECU node around the step.")
 w("")
-w("Every loop of the step has a fixed trip count, stated in "
-  "`lib/include/stickslip/models/detail/event_search.hpp`: at most `kMaxEventsPerStep` + 1 passes "
-  "of the event loop (32 events); in float at most 2^17 - 1 block maps per step for its ticks of "
-  "dt/2^16 and `kMaxRootIterations` = 64 Newton or bisection iterations per root; in Q7.24 no "
-  "block walk at all (one tick per step) and at most `kMaxCubicRootIterations` = 6 regula falsi "
-  "iterations per event, each a cubic's value and one proportion of 24 shift-and-subtract rounds. "
-  "The bound from these counts is far above what any input reaches (it allows 32 events), so the "
-  "worst case reported is QEMU's over the hardest set, where the exact solution needs at most 3 "
-  "events in a step. Why the targets are missed: "
-  "**Cortex-M0+**: the cost of the arithmetic. A Q7.24 product is about 50 ARMv6-M instructions "
-  "(32 x 32 -> 64 bits from four 16-bit MULS, rounding, saturation) and a proportion about 200; "
-  "an event takes about 60 products and 8 proportions (the cubic's coefficients, the acceleration "
-  "and jerk at the event, the root search, the state at the root), some 4,500 instructions, so "
-  "the worst frames, with 2 or 3 events and the ECU node, reach the figures above. With ticks of "
-  "dt/16 and bisection instead of the cubic search (commit e18f547) the worst was 75,560 on the "
-  "hardest set and 58,520 on the lorry. Meeting 4,000 would take a cheaper product (a core with "
-  "the 32 x 32 -> 64-bit UMULL) or fewer operations per event. "
+w("**The bound.** Every loop of the step has a fixed trip count, stated in "
+  "`lib/include/stickslip/models/detail/event_search.hpp`. The event budget is a compile-time "
+  "constant per scalar (`Oscillator::kEventBudget`). In Q7.24 it is 3, the most events the exact "
+  "solution has in one step: `lib/include/stickslip/models/step_common.hpp` derives it for a "
+  "step with (b/m) dt + (k/m) dt^2/2 < 1 (the reference seat: dt below 88 ms), which the Q7.24 "
+  "`configure()` requires. CTest `StickSlip.NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound` "
+  "checks it on 320,000 hostile steps of the double solution, whose budget is 32, and "
+  "`ScaledFixedPoint32Oscillator.AtTheBreakAwayThresholdFollowsDouble` reaches it in Q7.24 without "
+  "a step cut short. At the budget the step finishes in its mode, and a step where that lost an "
+  "event is counted (`event_budget_exhausted()`). So a Q7.24 step makes at most 4 passes of its "
+  "event loop: each stuck pass one proportion (the break-away instant), each slipping pass one "
+  "cubic segment (its coefficients, at most one proportion for a dip's minimum, at most "
+  "`kMaxCubicRootIterations` = 6 regula falsi iterations of a cubic's value and a proportion, "
+  "and the state at the root). No other loop runs in Q7.24: no block walk (one tick per step), "
+  "and a proportion is 24 shift-and-subtract rounds. Float, double and Q23.40 keep a budget of "
+  "32 (`kMaxEventsPerStep`), since they accept coarser steps, and float bisects to dt/2^16 "
+  "(at most 2^17 - 1 block maps per step) and runs up to `kMaxRootIterations` = 64 Newton or "
+  "bisection iterations per root.")
+w("")
+w("**Why the targets are missed.** "
+  "**Cortex-M0+**: the cost of the arithmetic. A Q7.24 product is about 40 ARMv6-M instructions "
+  "(four 16 x 16-bit MULS, rounding, saturation, and the call), a proportion about 140, a "
+  "saturating add about 12. A frame without events is already about 2,800 (the step's whole-step "
+  "slip about 1,000; the node and the board's mailbox about 1,800). A frame with two events (a "
+  "crossing of v_r = 0 located by the root search, a break-away, a slip to the end on a new "
+  "cubic) adds about 10,000 more: some 130 products, 10 proportions and 140 adds in all "
+  "(counted on an instruction trace, `-d exec`). A worst frame of 4,000 would leave about 600 "
+  "instructions per event, some fifteen products. Meeting it would take a core with the "
+  "32 x 32 -> 64-bit UMULL (the Cortex-M3 and up) or fewer operations per event than a cubic "
+  "root search needs. With ticks of dt/16 and bisection instead of the cubic search (commit "
+  "e18f547) the worst was 75,560 on the hardest set and 58,520 on the lorry; with the cubic "
+  "search before the 32-bit product rounding, add and proportion of this version, 19,040 and "
+  "10,000. "
   "**Cortex-M4F**: the event path bisects the step to dt/2^16 (17 block maps) before building "
   "the Taylor polynomials and running Newton; its median frame (node included) is already above "
   "600.")

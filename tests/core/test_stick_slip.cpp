@@ -312,6 +312,48 @@ TEST(StickSlip, SeveralEventsInOneLargeStepMatchAFineRun) {
   test::note_margin("most events in one step", most_events, kMaxEventsPerStep);
 }
 
+// The bound step_common.hpp derives: where (b/m) dt + (k/m) dt^2/2 < 1, no step of the exact
+// solution holds more than kMaxEventsOfTheExactSolutionPerStep events (Q7.24's budget). Double,
+// whose budget is 32, would show more. Hostile inputs: a_u jumping every sample across a range
+// that carries F_L past +-F_fs and back, and an actuator force that jumps at samples (so that
+// break-aways at a step's start go against F_L's motion), at steps up to the condition's edge.
+TEST(StickSlip, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
+  int most_events = 0;
+  long steps_at_the_bound = 0;
+  for (const double damping : {0.0, 504.0}) {
+    for (const double static_over_kinetic : {1.0, 1.3}) {
+      for (const double dt : {1e-3, 1e-2, 5e-2, 0.08}) {
+        OscillatorParams p = sticking_params(FrictionModel::stick_slip, Integrator::exact, dt);
+        p.damping_ns_per_m = damping;
+        p.static_friction_n = static_over_kinetic * p.kinetic_friction_n;
+        const double reach =
+            damping / p.mass_kg * dt + 0.5 * p.stiffness_n_per_m / p.mass_kg * dt * dt;
+        CHECK(reach < 1.0);
+        Oscillator<double, CoulombStickSlip> seat;
+        CHECK(seat.configure(p).ok());
+        test::SplitMix64 random(static_cast<std::uint64_t>(1000.0 * dt + damping) + 7u);
+        // a_u swings F_L by up to 3 F_fs from sample to sample, about the holding point.
+        const double swing = 3.0 * p.static_friction_n / p.mass_kg;
+        for (int n = 0; n < 20000; ++n) {
+          const double centre = -p.stiffness_n_per_m * seat.x_r() / p.mass_kg;
+          const double a_u = centre + swing * random.uniform(-1.0, 1.0);
+          const double f_a =
+              (n % 5 == 0) ? 0.5 * p.static_friction_n * random.uniform(-1.0, 1.0) : 0.0;
+          const auto out = seat.step(a_u, f_a);
+          most_events = std::max(most_events, static_cast<int>(out.events));
+          if (out.events == kMaxEventsOfTheExactSolutionPerStep) ++steps_at_the_bound;
+        }
+        CHECK_EQUAL(0u, seat.event_budget_exhausted());
+      }
+    }
+  }
+  test::note_margin("most events in a step", most_events, kMaxEventsOfTheExactSolutionPerStep);
+  test::note_margin("steps at the bound", static_cast<double>(steps_at_the_bound), 0.0);
+  CHECK_TEXT(most_events <= kMaxEventsOfTheExactSolutionPerStep,
+             StringFromFormat("a step held %d events", most_events).asCharString());
+  CHECK(steps_at_the_bound > 0);  // the inputs do reach the bound
+}
+
 // Float and double on 120 s of lorry-like input: T_ax within 1e-4 relative, p within 1e-4.
 TEST(StickSlip, FloatAndDoubleAgreeOnTransmissibilityAndStickProbability) {
   const LorryStats d = lorry_statistics<double>(120.0, 1e-3);

@@ -48,8 +48,52 @@ STICKSLIP_FIXED_INLINE constexpr std::int32_t saturate32(std::int64_t value) noe
   return static_cast<std::int32_t>(value);
 }
 
+// In 32 bits: on ARMv6-M a sign-extended 64-bit sum and its two-word range check took three
+// times the instructions of an add and a branch on overflow. The only in-range sum of two raw
+// values outside the symmetric range is -2^31, reached from two negative operands.
 STICKSLIP_FIXED_KERNEL constexpr std::int32_t add_raw32(std::int32_t a, std::int32_t b) noexcept {
-  return saturate32(std::int64_t{a} + b);
+  std::int32_t sum = 0;
+  if (__builtin_add_overflow(a, b, &sum) || sum == INT32_MIN) {
+    flag_saturation();
+    return a < 0 ? -kMaxRaw32 : kMaxRaw32;
+  }
+  return sum;
+}
+
+// round(a b / 2^F) from four 16 x 16 -> 32-bit products in 32-bit words only, for ARMv6-M, where
+// assembling the 64-bit product and adding and shifting it in register pairs costs a dozen more
+// instructions. With a = a1 2^16 + a0 and b likewise, a b = high 2^32 + mid 2^16 + (a0 b0 mod
+// 2^16), where mid gathers the middle partial products' low halves and a0 b0's high half, and
+// high the rest. For 17 <= F <= 31 the rounding half 2^(F-1) falls in mid's span and the bits
+// below 2^16 cannot carry into the quotient: round(a b / 2^F) = high 2^(32-F) +
+// floor((mid + 2^(F-17)) / 2^(F-16)). Built on the host too, where a test checks it against the
+// 64-bit product.
+template <int F>
+STICKSLIP_FIXED_INLINE constexpr std::uint32_t round_shift_product_halves(
+    std::uint32_t a, std::uint32_t b) noexcept {
+  static_assert(F >= 17 && F <= 31, "the rounding half must fall above a0 b0's low half");
+  const std::uint32_t a0 = a & 0xffffu, a1 = a >> 16, b0 = b & 0xffffu, b1 = b >> 16;
+  const std::uint32_t p00 = a0 * b0, p01 = a0 * b1, p10 = a1 * b0, p11 = a1 * b1;
+  // Each term < 2^16, so mid < 2^18; high < 2^30 since a b < 2^62.
+  const std::uint32_t mid = (p00 >> 16) + (p01 & 0xffffu) + (p10 & 0xffffu);
+  const std::uint32_t high = p11 + (p01 >> 16) + (p10 >> 16);
+  // high 2^(32-F) >= 2^31 already does not fit; below that the sum cannot wrap.
+  if (high >= (std::uint32_t{1} << (F - 1))) return std::uint32_t{1} << 31;
+  return (high << (32 - F)) + ((mid + (std::uint32_t{1} << (F - 17))) >> (F - 16));
+}
+
+// round(a b / 2^F) for magnitudes a, b < 2^31 (the product < 2^62), or any value above
+// kMaxRaw32 when the quotient does not fit it.
+template <int F>
+STICKSLIP_FIXED_INLINE constexpr std::uint32_t round_shift_product(std::uint32_t a,
+                                                                   std::uint32_t b) noexcept {
+#if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
+  if constexpr (F >= 17) return round_shift_product_halves<F>(a, b);
+#endif
+  // Both < 2^31: the product < 2^62, and adding the half cannot overflow.
+  const std::uint64_t q = (multiply_32x32(a, b) + (std::uint64_t{1} << (F - 1))) >> F;
+  return q > static_cast<std::uint64_t>(kMaxRaw32) ? std::uint32_t{1} << 31
+                                                   : static_cast<std::uint32_t>(q);
 }
 
 // round(a b / 2^F), ties away from zero, saturated.
@@ -59,9 +103,8 @@ STICKSLIP_FIXED_KERNEL constexpr std::int32_t multiply_raw32(std::int32_t a,
   const bool negative = (a < 0) != (b < 0);
   const auto ua = static_cast<std::uint32_t>(a < 0 ? -a : a);
   const auto ub = static_cast<std::uint32_t>(b < 0 ? -b : b);
-  // Both < 2^31: the product < 2^62, and adding the half cannot overflow.
-  const std::uint64_t q = (multiply_32x32(ua, ub) + (std::uint64_t{1} << (F - 1))) >> F;
-  if (q > static_cast<std::uint64_t>(kMaxRaw32)) {
+  const std::uint32_t q = round_shift_product<F>(ua, ub);
+  if (q > static_cast<std::uint32_t>(kMaxRaw32)) {
     flag_saturation();
     return negative ? -kMaxRaw32 : kMaxRaw32;
   }

@@ -50,6 +50,8 @@ struct FloatScalarTraits {
   // The in-step event instants n/d (0 <= n/d <= 1 by construction): a plain division here; a
   // fixed-point scalar finds it by shift-and-subtract.
   static Float proportion(Float n, Float d) noexcept { return n / d; }
+  // v / 2^shift: exact in floating point.
+  static Float divide_by_power_of_two(Float v, int shift) noexcept { return std::ldexp(v, -shift); }
   // Transcendentals used only by the friction laws that need them (smoothed signum, Stribeck).
   static Float tanh(Float value) noexcept { return std::tanh(value); }
   static Float atan(Float value) noexcept { return std::atan(value); }

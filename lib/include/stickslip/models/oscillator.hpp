@@ -46,6 +46,10 @@ class Oscillator {
  public:
   using Scalar = T;
   using FrictionLaw = Law;
+  // Events located in one step at most (step_common.hpp): Q7.24's is the exact solution's own
+  // bound, which configure() then requires of the scene.
+  static constexpr int kEventBudget =
+      S::kCubicEventSearch ? kMaxEventsOfTheExactSolutionPerStep : kMaxEventsPerStep;
 
   // Validates the parameters and precomputes every coefficient. The model in `params` must match
   // Law (checked); the oscillator is left reset to rest with a_u = 0.
@@ -65,6 +69,19 @@ class Oscillator {
       if (result.ok()) {
         result = check_fixed_point_scene(params, model, T::kIntegerBits, T::kFractionBits,
                                          S::kEventTickLevel);
+      }
+    }
+    if constexpr (kEventBudget < kMaxEventsPerStep) {
+      // The condition under which the exact solution needs at most kEventBudget events a step.
+      const double reach = model.damping_over_mass * params.dt_s +
+                           0.5 * model.stiffness_over_mass * params.dt_s * params.dt_s;
+      if (result.ok() && !(reach < 1.0)) {
+        result = refusal(Status::out_of_range);
+        result.message.append("dt_s: (b/m) dt + (k/m) dt^2/2 = ")
+            .append(reach)
+            .append(", not below 1: the step could need more than ")
+            .append(kEventBudget)
+            .append(" events");
       }
     }
     if (!result.ok()) return result;
@@ -279,7 +296,7 @@ class Oscillator {
     return false;
   }
   T dt_s() const noexcept { return dt_s_; }
-  // Steps that hit kMaxEventsPerStep (should stay 0; a non-zero count means a degenerate scene).
+  // Steps the event budget cut short (should stay 0; a non-zero count means a degenerate scene).
   std::uint64_t event_budget_exhausted() const noexcept { return counters_.event_budget_exhausted; }
   // Non-finite input samples replaced by the previous sample.
   std::uint64_t rejected_inputs() const noexcept { return counters_.rejected_inputs; }
@@ -342,7 +359,12 @@ class Oscillator {
     }
   }
 
-  T phi(const Position& pos) const noexcept { return (T(pos.tick) + pos.frac) * inv_ticks_; }
+  T phi(const Position& pos) const noexcept {
+    // One tick per step (Q7.24): the product by 1 is exact, and skipped (40 instructions on the
+    // Cortex-M0+, several times per event).
+    if constexpr (S::kCubicEventSearch) return T(pos.tick) + pos.frac;
+    return (T(pos.tick) + pos.frac) * inv_ticks_;
+  }
 
   T limit_force(T a_u, T x) const noexcept { return -(mass_kg_ * a_u + stiffness_ * x); }
 

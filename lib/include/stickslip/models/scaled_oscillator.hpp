@@ -116,8 +116,11 @@ class CountScale {
   }
   // round(v multiplier / 2^shift), ties away from zero.
   STICKSLIP_OUT_OF_LINE std::int64_t rounded_product(std::int32_t v) const noexcept {
-    const auto magnitude = static_cast<std::uint64_t>(v < 0 ? -std::int64_t{v} : std::int64_t{v}) *
-                           static_cast<std::uint32_t>(multiplier_);
+    // |v| <= 2^31 and the multiplier < 2^25: a 32 x 32-bit product (no 64-bit library
+    // multiply on ARMv6-M).
+    const auto magnitude = fixed_point_detail::multiply_32x32(
+        static_cast<std::uint32_t>(v < 0 ? -std::int64_t{v} : std::int64_t{v}),
+        static_cast<std::uint32_t>(multiplier_));
     const auto q =
         static_cast<std::int64_t>((magnitude + (std::uint64_t{1} << (shift_ - 1))) >> shift_);
     return v < 0 ? -q : q;

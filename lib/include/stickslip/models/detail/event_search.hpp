@@ -16,8 +16,10 @@
 //
 // The work of one step is bounded by the trip counts of its loops (L = event_level_: 16 in
 // floating point, 10 in Q23.40, 0 in Q7.24):
-//   - step_sticking()'s and step_held()'s event loops: at most kMaxEventsPerStep + 1 passes (each
-//     pass but the last locates one event; at the budget the step finishes in its mode, counted);
+//   - step_sticking()'s and step_held()'s event loops: at most kEventBudget + 1 passes (each pass
+//     but the last locates one event; at the budget the step finishes in its mode, counted where
+//     that lost an event: stuck with |F_L| beyond F_fs at the end, or v_r against the direction):
+//     kMaxEventsPerStep = 32, and in Q7.24 the exact solution's own 3 (step_common.hpp);
 //   - slip()'s block walk: at most 2^(L+1) - 1 block maps per step over all its calls, since the
 //     walk only moves forward and evaluates each dyadic block of the step at most once (it starts
 //     at a position only on blocks that start there); lowest_set_bit(): at most L shifts;
@@ -334,15 +336,19 @@ int Oscillator<T, Law>::step_held(const Input& in) noexcept {
     Position pos{0u, T(0)};
     T d = signum(v_);
     bool starting = false;
+    bool unsearched = false;  // at the budget: the rest of the step slips without a search
     while (slip(pos, x_, v_, d, in, ConstantForce{force}, starting)) {
       ++events;
       force = Law::force_at_rest(limit_force(in.at(phi(pos)), x_), friction_);
       // Slipping again only if the friction saturates against the load; otherwise held at rest
       // for the rest of the step (no further events to look for).
       const bool saturated = S::abs(force) == friction_.kinetic_n && force != T(0);
-      d = saturated && events < kMaxEventsPerStep ? signum(force) : T(0);
+      unsearched = saturated && events >= kEventBudget;
+      d = saturated && !unsearched ? signum(force) : T(0);
       starting = d != T(0);
     }
+    // Counted where the budget lost an event: the unsearched slip ended against its direction.
+    if (unsearched && v_ * force < T(0)) ++counters_.event_budget_exhausted;
   } else {
     const T scaled_force = inv_mass_ * force;
     advance_affine(x_, v_, 0, -(in.a0 + scaled_force), -(in.a1 + scaled_force));
@@ -387,11 +393,12 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
       // Held to the end if F_L is within F_fs at the end and now; now needs a test only at the
       // step's start, where an actuator force that changed makes F_L jump (inside the step F_L
       // is continuous and the stick decision left it within F_fs).
-      if ((S::abs(limit_end) <= friction_.static_n &&
-           (pos.tick != 0u || pos.frac != T(0) ||
-            S::abs(limit_force(in.a0, x_)) <= friction_.static_n)) ||
-          events >= kMaxEventsPerStep) {
-        if (events >= kMaxEventsPerStep) ++counters_.event_budget_exhausted;
+      const bool held = S::abs(limit_end) <= friction_.static_n &&
+                        (pos.tick != 0u || pos.frac != T(0) ||
+                         S::abs(limit_force(in.a0, x_)) <= friction_.static_n);
+      if (held || events >= kEventBudget) {
+        // At the budget the seat stays stuck to the end; counted where that lost a break-away.
+        if (!held) ++counters_.event_budget_exhausted;
         stuck_fraction += T(1) - phi_now;
         return events;
       }
@@ -421,11 +428,13 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
       starting = true;
       continue;
     }
-    const bool detect = events < kMaxEventsPerStep;
-    if (!detect) ++counters_.event_budget_exhausted;
+    const bool detect = events < kEventBudget;
     const T d = detect ? direction_ : T(0);
     if (!slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, starting,
               events == 0 ? whole_step : nullptr)) {
+      // At the budget the slip runs to the end unsearched; counted where it lost an event (v_r
+      // ended against its direction).
+      if (!detect && v_ * direction_ < T(0)) ++counters_.event_budget_exhausted;
       return events;
     }
     ++events;

@@ -41,20 +41,14 @@ class CubicSegment {
   // In the scaled build's scene units a tick is the step and the step is the unit of time
   // (tick_s = 1): the products by tick_s, exact there, are skipped (on the Cortex-M0+ some 6 of
   // the 45 products that locating a crossing takes, 40 instructions each).
-  CubicSegment(T x0, T v0, T a0, T jerk, T snap, T tick_s) noexcept : x0_(x0), tick_s_(tick_s) {
-    v_[0] = v0;
-    v_[4] = T(0);
-    if (tick_s == T(1)) {
-      v_[1] = a0;
-      v_[2] = S::divide_by_power_of_two(jerk, 1);
-      v_[3] = snap * T(1.0 / 6.0);
-      return;
-    }
-    const T h2 = tick_s * tick_s;
-    v_[1] = a0 * tick_s;
-    v_[2] = jerk * h2 * T(0.5);
-    v_[3] = snap * (h2 * tick_s) * T(1.0 / 6.0);
-  }
+  // Built in the initialiser: assigned in the body, the array would first be zeroed (a memset
+  // call on the Cortex-M0+).
+  CubicSegment(T x0, T v0, T a0, T jerk, T snap, T tick_s) noexcept
+      : x0_(x0),
+        tick_s_(tick_s),
+        v_{v0, tick_s == T(1) ? a0 : a0 * tick_s,
+           S::divide_by_power_of_two(tick_s == T(1) ? jerk : jerk * (tick_s * tick_s), 1),
+           (tick_s == T(1) ? snap : snap * (tick_s * tick_s * tick_s)) * T(1.0 / 6.0), T(0)} {}
 
   // x_r is the integral of v_r: its coefficients are formed from v_r's where it is evaluated (at
   // a root and at the tick's end), so that the segment holds six numbers, not ten (the Cortex-M0+

@@ -48,9 +48,9 @@ STICKSLIP_FIXED_INLINE constexpr std::int32_t saturate32(std::int64_t value) noe
   return static_cast<std::int32_t>(value);
 }
 
-// In 32 bits: on ARMv6-M a sign-extended 64-bit sum and its two-word range check took three
-// times the instructions of an add and a branch on overflow. The only in-range sum of two raw
-// values outside the symmetric range is -2^31, reached from two negative operands.
+// In 32-bit words: on ARMv6-M a sign-extended 64-bit sum and its two-word range check cost about
+// 17 instructions a call, this about 11. The only sum that does not overflow int32 and still
+// leaves the symmetric range is -2^31, reached from two negative operands.
 STICKSLIP_FIXED_KERNEL constexpr std::int32_t add_raw32(std::int32_t a, std::int32_t b) noexcept {
   std::int32_t sum = 0;
   if (__builtin_add_overflow(a, b, &sum) || sum == INT32_MIN) {

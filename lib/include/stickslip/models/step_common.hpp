@@ -28,7 +28,8 @@ inline constexpr int kMaxEventsPerStep = 32;
 
 // The most events the exact solution of a law with a stuck state has in one step when
 //   (b/m) dt + (k/m) dt^2 / 2 < 1
-// (the reference seat: dt below 88 ms), with a_u linear and the actuator force held over the step.
+// (the reference seat: dt below 88 ms), with a_u linear and the actuator force held over the step
+// (Stribeck: read its slip friction, at most F_fs and falling with speed, for F_fk below).
 // F_L = f_a - m a_u - k x_r, the force that holds the seat at rest, then moves one way, s, all
 // step (at any fixed x_r), and:
 //   - a slip that starts from rest inside the step in the direction s does not return to rest in
@@ -37,8 +38,9 @@ inline constexpr int kMaxEventsPerStep = 32;
 //     m w' >= Delta (1 - b t/m - k t^2/(2m)) + c t (1 - b t/(2m) - k t^2/(6m)) > 0;
 //   - a break-away inside the step goes the way F_L moves, s (one at the step's start, where f_a
 //     may jump, may go against it);
-//   - where a slip returns to rest, F_L d <= F_fk (m w' <= 0 there): it sticks or reverses, and
-//     reverses towards s if it was against s; a stick ends in a break-away towards s, or lasts.
+//   - where a slip returns to rest, F_L d <= F_fk at the x_r reached (m w' <= 0 there): it sticks
+//     or reverses, never slips on the same way, and a reversal of a slip against s goes towards s;
+//     a stick ends in a break-away towards s, or lasts to the step's end.
 // So only a slip entering the step, or one against s, returns to rest, and the longest chains are
 // (a break-away against s at the start, or a slip entering towards s that comes to rest and
 // reverses), a return to rest that sticks, a break-away towards s: 3 events. Q7.24 takes this as

@@ -402,7 +402,7 @@ TEST(ScaledFixedPoint32Oscillator, CubicSegmentIsTheExactSolutionToTheFormatsRes
   const double j0 = -(k_over_m * v0 + b_over_m * a0);
   const double s0 = -(k_over_m * a0 + b_over_m * j0);
   const auto q = [](double value) { return Fixed32(value); };
-  const CubicSegment<Fixed32> segment(q(x0), q(v0), q(a0), q(j0), q(s0), q(1.0));
+  const CubicSegment<Fixed32> segment(q(x0), q(v0), q(a0), q(j0), q(s0));
   // The remainders (at the reference seat's w dt = 0.0114 they are 1e-11 of A, below the
   // resolution; this fast oscillation makes them visible).
   const double x_remainder = 0.5 * std::pow(w, 5) / 120.0 + 8 * eps;
@@ -428,8 +428,7 @@ TEST(ScaledFixedPoint32Oscillator, CubicSegmentFromRestDoesNotCrossAtItsStart) {
   using S = ScalarTraits<Fixed32>;
   const Fixed32 a0 = Fixed32::from_raw(3);  // 1.8e-7: v_r(2^-16) is 3e-12, 0 in the format
   const Fixed32 jerk(-4e-4);                // turns v_r back: it crosses 0 at u = 2 a0 / |jerk|
-  const CubicSegment<Fixed32> segment(Fixed32(0.01), Fixed32(0.0), a0, jerk, Fixed32(0.0),
-                                      Fixed32(1.0));
+  const CubicSegment<Fixed32> segment(Fixed32(0.01), Fixed32(0.0), a0, jerk, Fixed32(0.0));
   Fixed32 root;
   CHECK(segment.first_crossing(Fixed32(1.0), Fixed32(1.0), root));
   // v_r / u = a0 + (jerk / 2) u is linear: the root to the rounding of jerk / 2 (half a unit of
@@ -437,8 +436,7 @@ TEST(ScaledFixedPoint32Oscillator, CubicSegmentFromRestDoesNotCrossAtItsStart) {
   const double expected = 2.0 * S::to_double(a0) / -S::to_double(jerk);
   DOUBLES_EQUAL(expected, S::to_double(root), 2e-4 * expected);
   // Rising throughout: no crossing at all.
-  const CubicSegment<Fixed32> rising(Fixed32(0.01), Fixed32(0.0), a0, -jerk, Fixed32(0.0),
-                                     Fixed32(1.0));
+  const CubicSegment<Fixed32> rising(Fixed32(0.01), Fixed32(0.0), a0, -jerk, Fixed32(0.0));
   CHECK_FALSE(rising.first_crossing(Fixed32(1.0), Fixed32(1.0), root));
 }
 
@@ -508,6 +506,17 @@ TEST(ScaledFixedPoint32Oscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuant
   CHECK_TEXT(test::contains(result.message.c_str(), "in scene units"), result.message.c_str());
   CHECK_TEXT(test::contains(result.message.c_str(), "displacement_range_m"),
              result.message.c_str());
+  // The oscillator itself runs Q7.24 in scene units only, where dt = 1: the firmware's scene
+  // in them is accepted, the same scene with any other step is refused by name.
+  OscillatorParams firmware = firmware_params(FrictionModel::stick_slip, Integrator::exact);
+  firmware.kinetic_friction_n = firmware.static_friction_n = 45.0;
+  ScaledOscillator<Fixed32, CoulombStickSlip> scaled;
+  CHECK(scaled.configure(firmware).ok());
+  OscillatorParams scene = to_scene_units(firmware, scaled.units());
+  Oscillator<Fixed32, CoulombStickSlip> direct;
+  CHECK_TEXT(direct.configure(scene).ok(), direct.configure(scene).message.c_str());
+  scene.dt_s = 0.999;
+  test::check_refused_naming(direct.configure(scene), "dt_s:", "scene units");
 }
 
 // The extremes of the grid (test::for_each_extreme_scene) with the firmware's input range and a

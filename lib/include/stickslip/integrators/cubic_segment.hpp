@@ -37,18 +37,12 @@ class CubicSegment {
 
  public:
   // From (x0, v0) with the relative acceleration a0, its rate of change (jerk) and that one's
-  // (snap) at the start, u in ticks of tick_s seconds.
-  // In the scaled build's scene units a tick is the step and the step is the unit of time
-  // (tick_s = 1): the products by tick_s, exact there, are skipped (on the Cortex-M0+ some 6 of
-  // the 45 products that locating a crossing takes, 40 instructions each).
-  // Built in the initialiser: assigned in the body, the array would first be zeroed (a memset
-  // call on the Cortex-M0+).
-  CubicSegment(T x0, T v0, T a0, T jerk, T snap, T tick_s) noexcept
-      : x0_(x0),
-        tick_s_(tick_s),
-        v_{v0, tick_s == T(1) ? a0 : a0 * tick_s,
-           S::divide_by_power_of_two(tick_s == T(1) ? jerk : jerk * (tick_s * tick_s), 1),
-           (tick_s == T(1) ? snap : snap * (tick_s * tick_s * tick_s)) * T(1.0 / 6.0), T(0)} {}
+  // (snap) at the start, in scene units, where the step is the unit of time (the Q7.24
+  // configure() requires dt = 1): u is the time from the start in steps. Built in the
+  // initialiser: assigned in the body, the array would first be zeroed (a memset call on the
+  // Cortex-M0+).
+  CubicSegment(T x0, T v0, T a0, T jerk, T snap) noexcept
+      : x0_(x0), v_{v0, a0, S::divide_by_power_of_two(jerk, 1), snap * T(1.0 / 6.0), T(0)} {}
 
   // x_r is the integral of v_r: its coefficients are formed from v_r's where it is evaluated (at
   // a root and at the tick's end), so that the segment holds six numbers, not ten (the Cortex-M0+
@@ -57,7 +51,7 @@ class CubicSegment {
     const T sum =
         v_[0] + u * (S::divide_by_power_of_two(v_[1], 1) +
                      u * (v_[2] * T(1.0 / 3.0) + u * S::divide_by_power_of_two(v_[3], 2)));
-    return x0_ + u * (tick_s_ == T(1) ? sum : tick_s_ * sum);
+    return x0_ + u * sum;
   }
   T velocity(T u) const noexcept { return Cubic<T>{v_}(u); }
 
@@ -119,7 +113,7 @@ class CubicSegment {
     return lo + (hi - lo) * S::proportion(at_lo, at_lo - at_hi);
   }
 
-  T x0_, tick_s_;
+  T x0_;
   T v_[5];  // v_r's coefficients and a 0: v_ + 1 is v_r / u when v_[0] = 0
 };
 

@@ -71,6 +71,16 @@ class Oscillator {
                                          S::kEventTickLevel);
       }
     }
+    if constexpr (S::kCubicEventSearch) {
+      // The cubic search runs in scene units, where the step is the unit of time
+      // (models/scaled_oscillator.hpp): its polynomials carry no powers of dt.
+      if (result.ok() && params.dt_s != 1.0) {
+        result = refusal(Status::out_of_range);
+        result.message
+            .append("dt_s: this scalar runs in scene units, dt = 1 (ScaledOscillator); got ")
+            .append(params.dt_s);
+      }
+    }
     if constexpr (kEventBudget < kMaxEventsPerStep) {
       // The condition under which the exact solution needs at most kEventBudget events a step.
       const double reach = model.damping_over_mass * params.dt_s +

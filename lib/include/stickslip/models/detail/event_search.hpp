@@ -218,7 +218,7 @@ inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d
   if (starting && a * d < T(0)) a = T(0);
   const T jerk = -(k_over_m_ * v + b_over_m_ * a) - (in.a1 - in.a0) * inv_dt_;
   const T snap = -(k_over_m_ * a + b_over_m_ * jerk);
-  const CubicSegment<T> segment(x, v, a, jerk, snap, tick_s_);
+  const CubicSegment<T> segment(x, v, a, jerk, snap);
   T root = T(0);
   const bool found = d != T(0) && segment.first_crossing(d, span, root);
   return end_on_segment(segment, found, root, pos.frac, pos, x, v);

@@ -190,6 +190,24 @@ TEST(FixedPoint32Arithmetic, DivisionByAPowerOfTwoIsTheProductsRounding) {
   CHECK_FALSE(take_fixed_point_saturation());
 }
 
+// What the Q7.24 step skips in scene units (models/oscillator.hpp, kSceneUnits): a product by
+// m = 1 or dt = 1, by a direction of +-1, and the input's interpolation at the step's start are
+// the operand itself, its negation and a0, bit for bit, over the whole format.
+TEST(FixedPoint32Arithmetic, ProductsByOneAndTheInputAtTheStartAreTheOperandsThemselves) {
+  Bits bits;
+  int mismatches = 0;
+  const Fixed32 one(1.0), minus_one(-1.0);
+  for (int i = 0; i < 200000; ++i) {
+    const Fixed32 v =
+        Fixed32::from_raw(i < 4 ? (i < 2 ? kMax32 - i : -kMax32 + i - 2) : bits.raw());
+    const Fixed32 w = Fixed32::from_raw(bits.raw());
+    if (v * one != v || one * v != v || v * minus_one != -v) ++mismatches;
+    if ((StepInput<Fixed32>{v, w}.at(Fixed32(0.0)) != v)) ++mismatches;
+  }
+  LONGS_EQUAL(0, mismatches);
+  CHECK_FALSE(take_fixed_point_saturation());
+}
+
 TEST(FixedPoint32Arithmetic, EveryOverflowSaturatesAndSetsTheStickyFlag) {
   const Fixed32 big = Fixed32::from_raw(kMax32 - 5);
   CHECK_FALSE(fixed_point_saturated());
@@ -517,6 +535,9 @@ TEST(ScaledFixedPoint32Oscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuant
   CHECK_TEXT(direct.configure(scene).ok(), direct.configure(scene).message.c_str());
   scene.dt_s = 0.999;
   test::check_refused_naming(direct.configure(scene), "dt_s:", "scene units");
+  scene.dt_s = 1.0;
+  scene.mass_kg = 1.001;
+  test::check_refused_naming(direct.configure(scene), "mass_kg:", "scene units");
 }
 
 // The extremes of the grid (test::for_each_extreme_scene) with the firmware's input range and a

@@ -81,7 +81,21 @@ struct PaddedPolynomial {
   static constexpr int kTerms = 12;
   static constexpr int kEstrinFromDegree = 6;
   int degree = 0;
-  T c[kTerms]{};
+  T c[kTerms];  // beyond `degree`, zero as far as Estrin's scheme reads (see pad_from())
+
+  PaddedPolynomial() noexcept : c{} {}
+  // For a writer that fills the terms itself, up to the degree, then calls pad_from()
+  // (derivative(), TaylorSegment): the event search builds several polynomials per event, and
+  // zeroing each whole (a memset call on the Cortex-M4F, about 100 instructions) cost more than
+  // the terms it then writes.
+  struct Unfilled {};
+  explicit PaddedPolynomial(Unfilled) noexcept {}
+  // Zeroes the terms from n on that evaluation reads: none below kEstrinFromDegree (Horner's rule
+  // reads up to the degree), up to c[7] or all of them from it.
+  void pad_from(int n) noexcept {
+    const int read = degree < kEstrinFromDegree ? 0 : (degree < 8 ? 8 : kTerms);
+    for (; n < read; ++n) c[n] = T(0);
+  }
 
   T operator()(T u) const noexcept {
     if (degree < kEstrinFromDegree) {
@@ -100,17 +114,14 @@ struct PaddedPolynomial {
     const T r2 = q4 + q5 * u2;
     return (r0 + r1 * u4) + r2 * u8;
   }
+  // The terms beyond the degree are zero, and so are their derivatives'.
   PaddedPolynomial derivative() const noexcept {
-    PaddedPolynomial d;
+    PaddedPolynomial d{Unfilled{}};
     d.degree = degree > 0 ? degree - 1 : 0;
-    for (int n = 0; n + 1 < kTerms; ++n) d.c[n] = T(n + 1) * c[n + 1];
+    int n = 0;
+    for (; n < degree; ++n) d.c[n] = T(n + 1) * c[n + 1];
+    d.pad_from(n);
     return d;
-  }
-  PaddedPolynomial scaled(T factor) const noexcept {
-    PaddedPolynomial s;
-    s.degree = degree;
-    for (int n = 0; n < kTerms; ++n) s.c[n] = factor * c[n];
-    return s;
   }
 
  private:
@@ -131,7 +142,8 @@ class TaylorSegment {
   // `starting_direction` != 0: a slip phase starts here in that direction, where the stick
   // decision guarantees a_r d >= 0; a negative initial acceleration is rounding and is clamped.
   TaylorSegment(const TaylorCoefficients<T>& c, T x0, T v0, T g0, T g_slope,
-                T starting_direction) noexcept {
+                T starting_direction) noexcept
+      : x_{typename PaddedPolynomial<T>::Unfilled{}}, v_{typename PaddedPolynomial<T>::Unfilled{}} {
     const int order = c.order;
     x_.degree = order + 1;
     v_.degree = order;
@@ -148,6 +160,8 @@ class TaylorSegment {
     v[2] = v2;
     for (int n = 3; n <= order; ++n) v[n] = c.v_from_v1[n] * v1 + c.v_from_v2[n] * v2;
     for (int n = 3; n <= order + 1; ++n) x[n] = c.x_from_v1[n] * v1 + c.x_from_v2[n] * v2;
+    v_.pad_from(order < 2 ? 3 : order + 1);
+    x_.pad_from(order < 2 ? 3 : order + 2);
   }
 
   T position(T u) const noexcept { return x_(u); }

@@ -50,6 +50,10 @@ class Oscillator {
   // bound, which configure() then requires of the scene.
   static constexpr int kEventBudget =
       S::kCubicEventSearch ? kMaxEventsOfTheExactSolutionPerStep : kMaxEventsPerStep;
+  // Q7.24 runs in scene units only (models/scaled_oscillator.hpp), where m = 1 and dt = 1
+  // exactly and the step is one tick (configure() requires them): its products by these are
+  // exact and skipped (by_unit()), about 40 instructions each on the Cortex-M0+.
+  static constexpr bool kSceneUnits = S::kCubicEventSearch;
 
   // Validates the parameters and precomputes every coefficient. The model in `params` must match
   // Law (checked); the oscillator is left reset to rest with a_u = 0.
@@ -71,14 +75,19 @@ class Oscillator {
                                          S::kEventTickLevel);
       }
     }
-    if constexpr (S::kCubicEventSearch) {
-      // The cubic search runs in scene units, where the step is the unit of time
-      // (models/scaled_oscillator.hpp): its polynomials carry no powers of dt.
+    if constexpr (kSceneUnits) {
+      // The cubic search's polynomials carry no powers of dt, and the step no products by m or
+      // dt: in scene units (ScaledOscillator) both are 1.
       if (result.ok() && params.dt_s != 1.0) {
         result = refusal(Status::out_of_range);
         result.message
             .append("dt_s: this scalar runs in scene units, dt = 1 (ScaledOscillator); got ")
             .append(params.dt_s);
+      } else if (result.ok() && params.mass_kg != 1.0) {
+        result = refusal(Status::out_of_range);
+        result.message
+            .append("mass_kg: this scalar runs in scene units, m = 1 (ScaledOscillator); got ")
+            .append(params.mass_kg);
       }
     }
     if constexpr (kEventBudget < kMaxEventsPerStep) {
@@ -157,7 +166,7 @@ class Oscillator {
   void reset(T x0_m, T v0_m_per_s, T a_u0) noexcept { reset_shifted(x0_m, v0_m_per_s, a_u0, a_u0); }
   // With an actuator force f_a0 acting at the start (in F_L(0)); see current_with_force().
   void reset(T x0_m, T v0_m_per_s, T a_u0, T f_a0_n) noexcept {
-    reset_shifted(x0_m, v0_m_per_s, a_u0, a_u0 - inv_mass_ * f_a0_n);
+    reset_shifted(x0_m, v0_m_per_s, a_u0, a_u0 - by_unit(inv_mass_, f_a0_n));
   }
 
  private:
@@ -186,8 +195,8 @@ class Oscillator {
   StepOutput<T> current() const noexcept { return output(a_prev_, T(0), 0); }
   // The same with the actuator force f_a acting on that state.
   StepOutput<T> current_with_force(T f_a_n) const noexcept {
-    StepOutput<T> out = output(a_prev_ - inv_mass_ * f_a_n, T(0), 0);
-    actuated_step_output(out, a_prev_, inv_mass_ * f_a_n);
+    StepOutput<T> out = output(a_prev_ - by_unit(inv_mass_, f_a_n), T(0), 0);
+    actuated_step_output(out, a_prev_, by_unit(inv_mass_, f_a_n));
     return out;
   }
 
@@ -217,7 +226,7 @@ class Oscillator {
       f_a_n = T(0);
       ++counters_.rejected_inputs;
     }
-    step_unchecked<true>(a_u_next, inv_mass_ * f_a_n, out);
+    step_unchecked<true>(a_u_next, by_unit(inv_mass_, f_a_n), out);
     count_saturation();
   }
 
@@ -254,7 +263,7 @@ class Oscillator {
       // The common paths first, inline: a whole step stuck, or (constant kinetic friction) a
       // whole step slipping without a sign change of v_r. Anything else runs the event search.
       if (direction_ == T(0)) {
-        const T limit = stuck_limit_force(mass_kg_, stiffness_, x_, in.a1);
+        const T limit = limit_force(in.a1, x_);
         bool holds = !stuck_step_breaks_away(limit, friction_.static_n);
         if constexpr (kActuated)  // F_L jumps at the step's start if the force changed there
           holds = holds && !stuck_step_breaks_away(limit_force(in.a0, x_), friction_.static_n);
@@ -273,9 +282,9 @@ class Oscillator {
         events = step_sticking(in, stuck_fraction, nullptr);
       } else if constexpr (!Law::velocity_dependent) {
         const T force = Law::slip_force(v_, direction_, friction_);
-        // inv_mass_ * force, as seat_acceleration() forms it (bit for bit the same value).
-        const WholeSlip<T> moved = whole_step_slip(
-            maps_[0], k_over_m_, b_over_m_, inv_mass_ * force, x_, v_, slip_a_x_, in.a0, in.a1);
+        const WholeSlip<T> moved =
+            whole_step_slip(maps_[0], k_over_m_, b_over_m_, by_unit(inv_mass_, force), x_, v_,
+                            slip_a_x_, in.a0, in.a1);
         if (!slip_step_has_event(moved, direction_)) {
           x_ = moved.x;
           v_ = moved.v;
@@ -369,18 +378,29 @@ class Oscillator {
     }
   }
 
-  T phi(const Position& pos) const noexcept {
-    // One tick per step (Q7.24): the product by 1 is exact, and skipped (40 instructions on the
-    // Cortex-M0+, several times per event).
-    if constexpr (S::kCubicEventSearch) return T(pos.tick) + pos.frac;
-    return (T(pos.tick) + pos.frac) * inv_ticks_;
+  T phi(const Position& pos) const noexcept { return by_unit(inv_ticks_, T(pos.tick) + pos.frac); }
+
+  // unit * value, for a unit that is 1 in scene units (m, 1/m, dt, 1/dt, the ticks per step):
+  // there the product is the value itself (kSceneUnits).
+  T by_unit(T unit, T value) const noexcept {
+    if constexpr (kSceneUnits) return value;
+    return unit * value;
   }
 
-  T limit_force(T a_u, T x) const noexcept { return -(mass_kg_ * a_u + stiffness_ * x); }
+  // a_u at phi in the step; at its start (where most events of a step begin) without the
+  // interpolation's two products in scene units.
+  T input_at(const Input& in, T phi) const noexcept {
+    if constexpr (kSceneUnits) {
+      if (phi == T(0)) return in.a0;
+    }
+    return in.at(phi);
+  }
+
+  T limit_force(T a_u, T x) const noexcept { return -(by_unit(mass_kg_, a_u) + stiffness_ * x); }
 
   // dv_r/dt for a given friction force.
   T relative_acceleration(T x, T v, T force_n, T a_u) const noexcept {
-    return seat_acceleration(k_over_m_, b_over_m_, inv_mass_, x, v, force_n) - a_u;
+    return seat_acceleration(k_over_m_, b_over_m_, x, v, by_unit(inv_mass_, force_n)) - a_u;
   }
 
   void advance_affine(T& x, T& v, int level, T g0, T g1) const noexcept {
@@ -467,7 +487,7 @@ class Oscillator {
     }
     out.x_r_m = x_;
     out.v_r_m_per_s = v_;
-    out.stuck_time_s = stuck_fraction * dt_s_;
+    out.stuck_time_s = by_unit(dt_s_, stuck_fraction);
     out.stuck_fraction = stuck_fraction;
     out.events = static_cast<std::uint8_t>(events);
     out.stuck = false;
@@ -484,7 +504,7 @@ class Oscillator {
       force = Law::slip_force(v_, direction_, friction_);
     }
     out.friction_n = force;
-    out.a_x_m_per_s2 = seat_acceleration(k_over_m_, b_over_m_, inv_mass_, x_, v_, force);
+    out.a_x_m_per_s2 = seat_acceleration(k_over_m_, b_over_m_, x_, v_, by_unit(inv_mass_, force));
   }
 
   // A running model never emits NaN/Inf: should the state ever leave the finite range (it cannot

@@ -37,10 +37,10 @@ inline bool finite_quietly(T x) noexcept {
   }
 }
 
-// a_x = -(k x_r + b v_r + F_f)/m, the seat's absolute acceleration.
+// a_x = -(k x_r + b v_r + F_f)/m, the seat's absolute acceleration, given F_f/m.
 template <typename T>
-constexpr T seat_acceleration(T k_over_m, T b_over_m, T inv_mass, T x, T v, T force_n) noexcept {
-  return -(k_over_m * x + b_over_m * v + inv_mass * force_n);
+constexpr T seat_acceleration(T k_over_m, T b_over_m, T x, T v, T friction_accel) noexcept {
+  return -(k_over_m * x + b_over_m * v + friction_accel);
 }
 
 template <typename T>
@@ -59,7 +59,7 @@ constexpr WholeSlip<T> whole_step_slip(const StepMap<T>& map, T k_over_m, T b_ov
                                        T a1) noexcept {
   T x_end = x, v_end = v;
   apply_step_map(map, x_end, v_end, -(a0 + friction_accel), -(a1 + friction_accel));
-  const T a_x_end = -(k_over_m * x_end + b_over_m * v_end + friction_accel);
+  const T a_x_end = seat_acceleration(k_over_m, b_over_m, x_end, v_end, friction_accel);
   return {x_end, v_end, a_x_end, a_x_start - a0, a_x_end - a1};
 }
 

@@ -182,7 +182,7 @@ inline bool Oscillator<T, Law>::finish_tick_interpolated(Position& pos, T& x, T&
                                                          bool starting) const noexcept {
   const T h = (T(1) - pos.frac) * tick_s_;
   const T a = relative_acceleration(x, v, force_n, in.at(phi(pos)));
-  const T jerk = -(k_over_m_ * v + b_over_m_ * a) - (in.a1 - in.a0) * inv_dt_;
+  const T jerk = -(k_over_m_ * v + b_over_m_ * a) - by_unit(inv_dt_, in.a1 - in.a0);
   const T x_end = x + h * (v + kHalf * a * h);
   T v_end = v + h * (a + kHalf * jerk * h);
   if (starting && v_end * d < T(0)) v_end = T(0);
@@ -212,11 +212,11 @@ template <typename T, typename Law>
 inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d, const Input& in,
                                                   T force_n, bool starting) const noexcept {
   const T span = T(1) - pos.frac;
-  T a = relative_acceleration(x, v, force_n, in.at(phi(pos)));
+  T a = relative_acceleration(x, v, force_n, input_at(in, phi(pos)));
   // A slip phase starts at rest with a_r d >= 0 (the stick decision): the opposite sign is
   // rounding. (The search from rest needs no start guard: see CubicSegment::first_crossing().)
   if (starting && a * d < T(0)) a = T(0);
-  const T jerk = -(k_over_m_ * v + b_over_m_ * a) - (in.a1 - in.a0) * inv_dt_;
+  const T jerk = -(k_over_m_ * v + b_over_m_ * a) - by_unit(inv_dt_, in.a1 - in.a0);
   const T snap = -(k_over_m_ * a + b_over_m_ * jerk);
   const CubicSegment<T> segment(x, v, a, jerk, snap);
   T root = T(0);
@@ -367,8 +367,8 @@ int Oscillator<T, Law>::step_held(const Input& in) noexcept {
 template <typename T, typename Law>
 bool Oscillator<T, Law>::whole_step_slips(const Input& in, StepOutput<T>& out) noexcept {
   const T force = Law::slip_force(v_, direction_, friction_);
-  const WholeSlip<T> moved = whole_step_slip(maps_[0], k_over_m_, b_over_m_, inv_mass_ * force, x_,
-                                             v_, slip_a_x_, in.a0, in.a1);
+  const WholeSlip<T> moved = whole_step_slip(
+      maps_[0], k_over_m_, b_over_m_, by_unit(inv_mass_, force), x_, v_, slip_a_x_, in.a0, in.a1);
   if (slip_step_has_event(moved, direction_)) return false;
   x_ = moved.x;
   v_ = moved.v;
@@ -402,22 +402,28 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
         stuck_fraction += T(1) - phi_now;
         return events;
       }
-      const T limit_now = limit_force(in.at(phi_now), x_);
+      const T limit_now = limit_force(input_at(in, phi_now), x_);
       T d = signum(limit_end);
       // |F_L| crosses F_fs between now and the end; the denominator is non-zero because
       // |limit_now| < F_fs < |limit_end| (at or above F_fs already: break away now).
       T ratio = T(0);
       if (S::abs(limit_now) < friction_.static_n) {
-        ratio = S::proportion(d * friction_.static_n - limit_now, limit_end - limit_now);
+        // d = +-1: its product is a sign.
+        const T threshold = d < T(0) ? -friction_.static_n : friction_.static_n;
+        ratio = S::proportion(threshold - limit_now, limit_end - limit_now);
         ratio = ratio < T(0) ? T(0) : (ratio > T(1) ? T(1) : ratio);
       } else if (S::abs(limit_now) > friction_.static_n) {
         // Beyond F_fs already (an actuator force that changed at the sample: F_L jumps there):
         // break away the way F_L points now.
         d = signum(limit_now);
       }
-      const T phi_break = phi_now + ratio * (T(1) - phi_now);
+      // Stuck from the step's start, the usual case, the rest of the step is all of it: in
+      // scene units its product by 1 is skipped.
+      const T phi_break =
+          kSceneUnits && phi_now == T(0) ? ratio : phi_now + ratio * (T(1) - phi_now);
       stuck_fraction += phi_break - phi_now;
-      const T ticks = phi_break * T(ticks_per_step_);
+      // (Not by_unit(): its operand's conversion would still be made, and may flag saturation.)
+      const T ticks = kSceneUnits ? phi_break : phi_break * T(ticks_per_step_);
       unsigned whole = static_cast<unsigned>(ticks);
       if (whole >= ticks_per_step_) whole = ticks_per_step_;
       pos.tick = whole;
@@ -439,7 +445,7 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
     }
     ++events;
     // v_r reached 0: stick if the limit force is within static friction, else reverse.
-    const T limit = limit_force(in.at(phi(pos)), x_);
+    const T limit = limit_force(input_at(in, phi(pos)), x_);
     direction_ = S::abs(limit) <= friction_.static_n ? T(0) : signum(limit);
     starting = direction_ != T(0);
   }

@@ -369,20 +369,24 @@ w("")
 w("**Why the targets are missed.** "
   "**Cortex-M0+**: the cost of the arithmetic. A Q7.24 product is about 40 ARMv6-M instructions "
   "(four 16 x 16-bit MULS, rounding, saturation, and the call), a proportion about 140, a "
-  "saturating add about 12. A frame without events is already about 2,800 (the step's whole-step "
-  "slip about 1,000; the node and the board's mailbox about 1,800). A frame with two events (a "
+  "saturating add about 12. A frame without events is already about 2,750 (the step's whole-step "
+  "slip about 900; the node and the board's mailbox about 1,850). A frame with two events (a "
   "crossing of v_r = 0 located by the root search, a break-away, a slip to the end on a new "
-  "cubic) adds about 10,000 more: some 130 products, 10 proportions and 140 adds in all "
-  "(counted on an instruction trace, `-d exec`). A worst frame of 4,000 would leave about 600 "
+  "cubic) adds about 9,400 more: some 105 products, 10 proportions and 130 adds in all "
+  "(counted on an instruction trace, `-d exec`): the products take about 4,200 of them, the "
+  "proportions 1,500 and the adds 1,550. A worst frame of 4,000 would leave about 600 "
   "instructions per event, some fifteen products. Meeting it would take a core with the "
   "32 x 32 -> 64-bit UMULL (the Cortex-M3 and up) or fewer operations per event than a cubic "
-  "root search needs. With ticks of dt/16 and bisection instead of the cubic search (commit "
-  "e18f547) the worst was 75,560 on the hardest set and 58,520 on the lorry; with the cubic "
-  "search before the 32-bit product rounding, add and proportion of this version, 19,040 and "
-  "10,000. "
+  "root search needs. Newton steps from the secant do not save them: the cubic of a step is "
+  "often dominated by its quadratic term (the input's jump), where Newton overshoots and needs "
+  "more iterations than regula falsi. With ticks of dt/16 and bisection instead of the cubic "
+  "search (commit e18f547) the worst was 75,560 on the hardest set and 58,520 on the lorry; "
+  "with the cubic search before the 32-bit product rounding, add and proportion, 19,040 and "
+  "10,000; before the products by m = 1, dt = 1 and +-1 were skipped in scene units, 13,760 "
+  "and 7,360. "
   "**Cortex-M4F**: the event path bisects the step to dt/2^16 (17 block maps) before building "
   "the Taylor polynomials and running Newton; its median frame (node included) is already above "
-  "600.")
+  "600, and the node is about 1,000 of it.")
 w("")
 w("## The ECU node around the step")
 w("")

@@ -81,20 +81,19 @@ struct PaddedPolynomial {
   static constexpr int kTerms = 12;
   static constexpr int kEstrinFromDegree = 6;
   int degree = 0;
-  T c[kTerms];  // beyond `degree`, zero as far as Estrin's scheme reads (see pad_from())
+  // Up to the degree; beyond it zero from kEstrinFromDegree on, where Estrin's scheme reads them
+  // (Horner's rule reads none).
+  T c[kTerms];
 
   PaddedPolynomial() noexcept : c{} {}
-  // For a writer that fills the terms itself, up to the degree, then calls pad_from()
-  // (derivative(), TaylorSegment): the event search builds several polynomials per event, and
-  // zeroing each whole (a memset call on the Cortex-M4F, about 100 instructions) cost more than
-  // the terms it then writes.
+  // For a writer that sets the degree and the terms itself (derivative(), TaylorSegment): below
+  // kEstrinFromDegree (the float plans) no padding is zeroed, which on the Cortex-M4F is a
+  // memset call of about 100 instructions per polynomial, several per event.
   struct Unfilled {};
   explicit PaddedPolynomial(Unfilled) noexcept {}
-  // Zeroes the terms from n on that evaluation reads: none below kEstrinFromDegree (Horner's rule
-  // reads up to the degree), up to c[7] or all of them from it.
-  void pad_from(int n) noexcept {
-    const int read = degree < kEstrinFromDegree ? 0 : (degree < 8 ? 8 : kTerms);
-    for (; n < read; ++n) c[n] = T(0);
+  bool padded() const noexcept { return degree >= kEstrinFromDegree; }
+  void zero_padding() noexcept {
+    for (int n = 0; n < kTerms; ++n) c[n] = T(0);
   }
 
   T operator()(T u) const noexcept {
@@ -114,13 +113,16 @@ struct PaddedPolynomial {
     const T r2 = q4 + q5 * u2;
     return (r0 + r1 * u4) + r2 * u8;
   }
-  // The terms beyond the degree are zero, and so are their derivatives'.
   PaddedPolynomial derivative() const noexcept {
     PaddedPolynomial d{Unfilled{}};
     d.degree = degree > 0 ? degree - 1 : 0;
-    int n = 0;
-    for (; n < degree; ++n) d.c[n] = T(n + 1) * c[n + 1];
-    d.pad_from(n);
+    if (!padded()) {
+      for (int n = 0; n < degree; ++n) d.c[n] = T(n + 1) * c[n + 1];
+      return d;
+    }
+    // The padding's derivative is zero, as the padding is.
+    for (int n = 0; n + 1 < kTerms; ++n) d.c[n] = T(n + 1) * c[n + 1];
+    d.c[kTerms - 1] = T(0);
     return d;
   }
 
@@ -147,6 +149,8 @@ class TaylorSegment {
     const int order = c.order;
     x_.degree = order + 1;
     v_.degree = order;
+    if (x_.padded()) x_.zero_padding();
+    if (v_.padded()) v_.zero_padding();
     T* x = x_.c;
     T* v = v_.c;
     x[0] = x0;
@@ -160,8 +164,6 @@ class TaylorSegment {
     v[2] = v2;
     for (int n = 3; n <= order; ++n) v[n] = c.v_from_v1[n] * v1 + c.v_from_v2[n] * v2;
     for (int n = 3; n <= order + 1; ++n) x[n] = c.x_from_v1[n] * v1 + c.x_from_v2[n] * v2;
-    v_.pad_from(order < 2 ? 3 : order + 1);
-    x_.pad_from(order < 2 ? 3 : order + 2);
   }
 
   T position(T u) const noexcept { return x_(u); }

@@ -241,10 +241,6 @@ STICKSLIP_FIXED_KERNEL constexpr std::int64_t divide_raw(std::int64_t a, std::in
   return negative ? -q : q;
 }
 
-// round(n / d 2^F) for 0 <= n, 0 < d < 2^(bits - 1) (unsigned magnitudes), clamped to [0, 2^F]:
-// F rounds of restoring shift-and-subtract, ties rounded up; n >= d gives exactly 2^F. The event
-// instants of the step (a fraction of a tick or of the step), where a division would need a
-// divide routine on a core without one.
 // One round of the restoring division: the next quotient bit.
 template <typename U>
 STICKSLIP_FIXED_INLINE constexpr void division_round(U& r, U& q, U d) noexcept {
@@ -256,6 +252,10 @@ STICKSLIP_FIXED_INLINE constexpr void division_round(U& r, U& q, U d) noexcept {
   }
 }
 
+// round(n / d 2^F) for 0 <= n, 0 < d < 2^(bits - 1) (unsigned magnitudes), clamped to [0, 2^F]:
+// F rounds of restoring shift-and-subtract, ties rounded up; n >= d gives exactly 2^F. The event
+// instants of the step (a fraction of a tick or of the step), where a division would need a
+// divide routine on a core without one.
 template <int F, typename U>
 STICKSLIP_FIXED_KERNEL constexpr U proportion_raw(U n, U d) noexcept {
   if (n >= d) return U{1} << F;
@@ -422,31 +422,29 @@ struct FixedPointTraits {
   // n/d clamped to [0, 1] (0 when n and d differ in sign or d == 0): the in-step event instants,
   // by F rounds of shift-and-subtract (fixed_point_detail::proportion_raw), not a division.
   static constexpr T proportion(T n, T d) noexcept {
-    using Raw = typename T::Raw;
-    using Magnitude = std::make_unsigned_t<Raw>;
     if (d == T() || (n < T()) != (d < T()) || n == T()) return T();
-    const auto magnitude = [](Raw raw) {
-      return raw < 0 ? static_cast<Magnitude>(Magnitude{0} - static_cast<Magnitude>(raw))
-                     : static_cast<Magnitude>(raw);
-    };
-    return T::from_raw(static_cast<Raw>(fixed_point_detail::proportion_raw<T::kFractionBits>(
-        magnitude(n.raw()), magnitude(d.raw()))));
+    return T::from_raw(static_cast<typename T::Raw>(
+        fixed_point_detail::proportion_raw<T::kFractionBits>(magnitude(n), magnitude(d))));
   }
   // v / 2^shift (0 < shift < F), rounded as the product by 2^-shift rounds (to nearest, ties away
   // from zero), to the same bits, without a multiply: the halves and quarters of the Q7.24 event
   // search (integrators/cubic_segment.hpp).
   static constexpr T divide_by_power_of_two(T v, int shift) noexcept {
     using Raw = typename T::Raw;
-    using Magnitude = std::make_unsigned_t<Raw>;
-    const Raw raw = v.raw();
-    const Magnitude magnitude =
-        raw < 0 ? static_cast<Magnitude>(Magnitude{0} - static_cast<Magnitude>(raw))
-                : static_cast<Magnitude>(raw);
-    const auto q = static_cast<Raw>((magnitude + (Magnitude{1} << (shift - 1))) >> shift);
-    return T::from_raw(raw < 0 ? -q : q);
+    const auto q = static_cast<Raw>((magnitude(v) + (Magnitude{1} << (shift - 1))) >> shift);
+    return T::from_raw(v.raw() < 0 ? -q : q);
   }
   // No transcendental functions: the atan, tanh and erf laws and Stribeck are not offered in
   // fixed point (configure() refuses them).
+
+ private:
+  using Magnitude = std::make_unsigned_t<typename T::Raw>;
+  // |v| as an unsigned raw value (the symmetric range: -raw never overflows).
+  static constexpr Magnitude magnitude(T v) noexcept {
+    const auto raw = v.raw();
+    return raw < 0 ? static_cast<Magnitude>(Magnitude{0} - static_cast<Magnitude>(raw))
+                   : static_cast<Magnitude>(raw);
+  }
 };
 
 template <int F>

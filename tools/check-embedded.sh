@@ -8,7 +8,12 @@
 #   - the Cortex-M0+ firmware's step (everything reachable from stickslip_seat_step, the seat's
 #     step the ECU node calls, read from the disassembly by tools/elf-callgraph.py) within its
 #     budget: code <= 4096 B, deepest stack <= 256 B; the whole receive callback's figures
-#     (the node around the step) are printed too. A static measure of the ELF, not a timing: it cannot be noisy.
+#     (the node around the step) are printed too. A static measure of the ELF, not a timing: it cannot be noisy;
+#   - every loop of the receive interrupt of both firmware builds has a bound in
+#     port/baremetal/loop-bounds.json (tools/elf-wcet.py fails on a loop without one, on control
+#     flow it cannot follow, and on a bound that no longer matches a loop), and the static bounds
+#     on the instructions of one step and of one frame are printed; the analysis is also checked
+#     to refuse a loop left without a bound.
 # Exit status 0 when everything builds and passes. Used by CTest (label embedded).
 set -euo pipefail
 
@@ -80,4 +85,28 @@ else
   status=1
 fi
 echo "check-embedded: cortex-m0plus receive callback (ECU node and step): $node_code B of code, $node_stack B of stack"
+
+# Static bounds on the instructions of one step and of one received frame (the receive interrupt
+# of the QEMU board, the region tools/qemu-worst-case.sh measures): after no gap, and after the
+# longest gap the node holds (max_gap samples stepped in one frame).
+bound() {  # preset root [--set NAME=VALUE] -> instructions
+  python3 "$source_dir/tools/elf-wcet.py" "$build_root/$1/port/baremetal/stickslip_firmware_qemu.elf" "$2" \
+    --bounds "$source_dir/port/baremetal/loop-bounds.json" --target "$1" "${@:3}" |
+    python3 -c 'import json, sys; print(json.load(sys.stdin)["instructions_bound"])'
+}
+for preset in cortex-m0plus cortex-m4f; do
+  if step=$(bound "$preset" stickslip_seat_step) && frame=$(bound "$preset" CAN0_IRQHandler --set max_gap=0) &&
+    gap=$(bound "$preset" CAN0_IRQHandler); then
+    echo "check-embedded: $preset static bound: $step instructions per step, $frame per frame after no gap, $gap after the longest gap held"
+  else
+    echo "check-embedded: $preset: the static bound could not be derived (above)" >&2
+    status=1
+  fi
+done
+# The analysis refuses a loop without a bound rather than guessing one.
+if python3 "$source_dir/tools/elf-wcet.py" "$build_root/cortex-m0plus/port/baremetal/stickslip_firmware_qemu.elf" \
+  stickslip_seat_step >/dev/null 2>&1; then
+  echo "check-embedded: tools/elf-wcet.py gave a bound with no loop bounds at all" >&2
+  status=1
+fi
 exit $status

@@ -6,7 +6,11 @@
 #   tools/qemu-worst-case.sh STICKSLIP REPLAY_DIR CROSS_ROOT WORK_DIR [SECONDS]
 # REPLAY_DIR holds stickslip_node_replay_* and stickslip_node_hardest_input (host build).
 # Prints qemu-compare.sh's lines, then one line per target: "worst PRESET max=N limit=L ok|OVER",
-# for the Cortex-M0+ followed by "median_floor=M ratio_to_median_floor=ok|OVER" (worst <= 5 M).
+# for the Cortex-M0+ followed by "median_floor=M ratio_to_median_floor=ok|OVER" (worst <= 5 M),
+# then "bound=B within_bound=ok|OVER": the static bound of tools/elf-wcet.py on the same ELF and
+# interrupt, for a frame that follows no gap (max_gap=0; the set is replayed over the loopback
+# bus, so every frame brings one sample, which the check confirms: two frames sent per frame). A
+# measured frame above the bound means the analysis or its loop bounds are wrong.
 set -euo pipefail
 
 # Instructions per frame (QEMU -icount, the whole CAN receive interrupt: node and step) that the
@@ -30,7 +34,7 @@ status=0
 "$here/qemu-compare.sh" "$stickslip" "$replay_dir" "$cross_root" "$work/qemu" "$work/hardest.csv" \
   >"$work/qemu.txt" || status=1
 cat "$work/qemu.txt"
-while read -r preset _ _ _ _ rest; do
+while read -r preset _ _ rest; do
   max=$(tr ' ' '\n' <<<"$rest" | awk -F= '$1 == "instructions_per_frame_max" {print $2}')
   p50=$(tr ' ' '\n' <<<"$rest" | awk -F= '$1 == "instructions_per_frame_p50" {print $2}')
   limit=$kLimitM4f
@@ -51,6 +55,18 @@ while read -r preset _ _ _ _ rest; do
     fi
     ratio=" median_floor=$median_floor$ratio"
   fi
-  echo "worst $preset max=${max:-none} limit=$limit $verdict$ratio"
+  frames=$(tr ' ' '\n' <<<"$rest" | awk -F= '$1 == "frames" {print $2}')
+  sent=$(tr ' ' '\n' <<<"$rest" | awk -F= '$1 == "frames_sent" {print $2}')
+  bound=$(python3 "$here/elf-wcet.py" "$cross_root/$preset/port/baremetal/stickslip_firmware_qemu.elf" \
+    CAN0_IRQHandler --bounds "$here/../port/baremetal/loop-bounds.json" --target "$preset" \
+    --set max_gap=0 | python3 -c 'import json, sys; print(json.load(sys.stdin)["instructions_bound"])') ||
+    bound=""
+  within=ok
+  if [ -z "$bound" ] || [ -z "$max" ] || [ "${sent:-0}" -ne $((2 * ${frames:-0})) ] ||
+    [ "$max" -gt "$bound" ]; then
+    within=OVER
+    status=1
+  fi
+  echo "worst $preset max=${max:-none} limit=$limit $verdict$ratio bound=${bound:-none} within_bound=$within"
 done <"$work/qemu.txt"
 exit $status

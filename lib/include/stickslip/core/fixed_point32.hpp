@@ -122,6 +122,66 @@ STICKSLIP_FIXED_KERNEL constexpr std::int32_t divide_raw32(std::int32_t a,
   return saturate32((std::int64_t{a} * (std::int64_t{1} << F)) / b);
 }
 
+// floor(sqrt(x)) to 16 significant bits, for x < 2^64: x is shifted right by an even 2k until it
+// fits 32 bits, and its 32-bit integer square root (16 rounds of one compare and subtract)
+// shifted back by k. On ARMv6-M a 64-bit square root costs 31 rounds of two-word arithmetic; the
+// Newton steps that use this (CubicSegment) double its precision each.
+STICKSLIP_FIXED_INLINE constexpr std::uint64_t square_root_16_bits(std::uint64_t x) noexcept {
+  int k = 0;
+  while ((x >> 32) != 0u) {
+    x >>= 2;
+    ++k;
+  }
+  auto rest = static_cast<std::uint32_t>(x);
+  std::uint32_t root = 0, bit = std::uint32_t{1} << 30;
+  while (bit > rest) bit >>= 2;
+  while (bit != 0u) {
+    if (rest >= root + bit) {
+      rest -= root + bit;
+      root = (root >> 1) + bit;
+    } else {
+      root >>= 1;
+    }
+    bit >>= 2;
+  }
+  return std::uint64_t{root} << k;
+}
+
+// The first u in (0, 1] where c + b u + a u^2 falls through 0, given c > 0 (raw values of Q.F),
+// as a raw value of Q.F; -1 where it has none there. The discriminant b^2 - 4 a c is formed
+// exactly in 64 bits (Q.2F): the coefficients of an event's polynomial are often a few units of
+// the format's last place, where products rounded to the format would lose it. Then one division
+// without cancellation: 2 c / (|b| + sqrt) while the value falls at 0 (b < 0), else
+// (b + sqrt) / (2 |a|), the root past the turning point of a rising start. No intermediate
+// saturates: where an operand could overflow the arithmetic (|a| or c from 2^30, the square root
+// from 2^31), there is no root either.
+template <int F>
+STICKSLIP_FIXED_KERNEL constexpr std::int32_t falling_quadratic_root(std::int32_t a, std::int32_t b,
+                                                                     std::int32_t c) noexcept {
+  const auto ua = a < 0 ? 0u - static_cast<std::uint32_t>(a) : static_cast<std::uint32_t>(a);
+  const auto ub = b < 0 ? 0u - static_cast<std::uint32_t>(b) : static_cast<std::uint32_t>(b);
+  const auto uc = static_cast<std::uint32_t>(c);
+  if (c <= 0 || ((ua | uc) >> 30) != 0u) return -1;
+  // Both terms < 2^62: neither their sum nor their difference overflows.
+  const std::uint64_t b2 = multiply_32x32(ub, ub), ac4 = multiply_32x32(ua, uc) << 2;
+  if (a > 0 && b2 < ac4) return -1;  // no real root
+  const std::uint64_t root = square_root_16_bits(a < 0 ? b2 + ac4 : b2 - ac4);
+  if ((root >> 31) != 0u) return -1;
+  const auto s = static_cast<std::uint32_t>(root);
+  std::uint32_t n = 0, d = 0;
+  if (b < 0) {
+    n = uc << 1;
+    d = ub + s;  // < 2^32
+  } else if (a < 0) {
+    n = ub + s;
+    d = ua << 1;
+  } else {
+    return -1;  // rising and bending up: no fall through 0
+  }
+  if (d == 0u || n > d || (d >> 31) != 0u) return -1;
+  return static_cast<std::int32_t>(proportion_raw<F>(n, d));
+}
+
 }  // namespace fixed_point_detail
 
 template <int FractionBits>
@@ -243,6 +303,14 @@ struct ScalarTraits<FixedPoint32<F>> : FixedPointTraits<FixedPoint32<F>> {
   // 75,000 instructions per frame on the Cortex-M0+ (docs/EMBEDDED.md).
   static constexpr int kEventTickLevel = 0;
   static constexpr bool kCubicEventSearch = true;
+  // The first u in (0, 1] where c + b u + a u^2 falls through 0 (c > 0), from the exact
+  // discriminant; -1 where there is none (fixed_point_detail::falling_quadratic_root()). The
+  // start of the cubic search's Newton steps.
+  static FixedPoint32<F> falling_quadratic_root(FixedPoint32<F> a, FixedPoint32<F> b,
+                                                FixedPoint32<F> c) noexcept {
+    return FixedPoint32<F>::from_raw(
+        fixed_point_detail::falling_quadratic_root<F>(a.raw(), b.raw(), c.raw()));
+  }
   // The M0+ build: the common path's whole slipping step out of line, so that its temporaries
   // are not on the stack under the event search (Oscillator::whole_step_slips()).
   static constexpr bool kCompactStack = true;

@@ -4,19 +4,20 @@
 // left out are v_r's fourth derivative times 1/24 and x_r's fifth times 1/120, at most about
 // ((k/m)^2 + (b/m)^4) dt^4 / 24 of the state's scale: 7e-10 for the reference seat at dt = 1 ms,
 // below Q7.24's resolution of 6e-8. Over one step the polynomials are the exact solution to the
-// format's rounding, so an event is located without bisecting the step. Multiplies, adds and
-// ScalarTraits::proportion() only: no division.
+// format's rounding, so an event is located without bisecting the step. Multiplies, adds,
+// ScalarTraits::proportion() and one integer square root per event: no division.
 #pragma once
 
 #include "stickslip/core/scalar.hpp"
 
 namespace stickslip {
 
-// Root-search iterations at most (regula falsi, Illinois variant), which bounds the work of an
-// event. Near the root the values fall to a few units of the format's last place, which limits
-// the root's precision more than further iterations would improve it; the accuracy this gives is
-// tested at the break-away threshold (ScaledFixedPoint32Oscillator tests).
-inline constexpr int kMaxCubicRootIterations = 6;
+// Newton steps of the root search, from the root of a quadratic that takes the cubic term at
+// the bracket's end: each doubles the digits, and three leave the root within a unit or two of
+// the format's last place in v_r over the seats configure() accepts, where the cubic term reaches
+// a third of the others ((b/m) dt up to 1); the reference seat's ((b/m) dt = 0.006) needs one
+// (ScaledFixedPoint32Oscillator tests). They bound the work of an event.
+inline constexpr int kCubicRootNewtonSteps = 3;
 
 // c[0] + c[1] u + c[2] u^2 + c[3] u^3, a view of four coefficients kept elsewhere.
 template <typename T>
@@ -88,29 +89,37 @@ class CubicSegment {
 
   static T along(T d, T value) noexcept { return d < T(0) ? -value : value; }
 
-  // The root in (0, hi) of f = p d, given f(0) = at_lo > 0 > f(hi) = at_hi: regula falsi keeps
-  // the root bracketed; the Illinois variant halves the value kept at an end that stays twice,
-  // so that both ends close in.
+  // The root in (0, hi) of f = p d, given f(0) = at_lo > 0 > f(hi) = at_hi. It starts at the
+  // root of c0 + c1 u + (c2 + c3 hi) u^2, f with its cubic term taken at the bracket's end, from
+  // the exact discriminant (ScalarTraits::falling_quadratic_root()), or the secant where that has
+  // none in the bracket, and takes kCubicRootNewtonSteps Newton steps on f. The bracket closes on
+  // each value found, and a step that would leave it is replaced by the bracket's midpoint (no
+  // proportion: the bound on the step's work charges every branch): the search never leaves
+  // (lo, hi).
   STICKSLIP_COMPACT_INLINE static T falling_root(Cubic<T> p, T d, T at_lo, T hi, T at_hi) noexcept {
     T lo = T(0);
-    int kept = 0;  // -1: lo stayed last time, +1: hi did
-    for (int iteration = 0; iteration < kMaxCubicRootIterations; ++iteration) {
-      const T u = lo + (hi - lo) * S::proportion(at_lo, at_lo - at_hi);
+    T u = S::falling_quadratic_root(along(d, p.c[2] + p.c[3] * hi), along(d, p.c[1]), at_lo);
+    if (!(u > lo && u < hi)) u = hi * S::proportion(at_lo, at_lo - at_hi);
+    for (int step = 0; step < kCubicRootNewtonSteps; ++step) {
       const T value = along(d, p(u));
-      if (value == T(0) || !(u > lo && u < hi)) return u;
+      if (value == T(0)) return u;
       if (value > T(0)) {
         lo = u;
-        at_lo = value;
-        if (kept > 0) at_hi = S::divide_by_power_of_two(at_hi, 1);
-        kept = 1;
       } else {
         hi = u;
-        at_hi = value;
-        if (kept < 0) at_lo = S::divide_by_power_of_two(at_lo, 1);
-        kept = -1;
       }
+      const T falling = -along(d, p.slope(u));  // -f'(u)
+      const T size = value > T(0) ? value : -value;
+      T next = lo;
+      if (falling > T(0) && size <= falling) {
+        const T change = S::proportion(size, falling);
+        next = value > T(0) ? u + change : u - change;
+      }
+      if (!(next > lo && next < hi)) next = lo + S::divide_by_power_of_two(hi - lo, 1);
+      if (next == u) return u;
+      u = next;
     }
-    return lo + (hi - lo) * S::proportion(at_lo, at_lo - at_hi);
+    return u;
   }
 
   T x0_;

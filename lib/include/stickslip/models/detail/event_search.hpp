@@ -27,7 +27,8 @@
 //     phase; the root search inside TaylorSegment: at most kMaxRootIterations; proportion(): F
 //     shift-and-subtract rounds (fixed point);
 //   - Q7.24: no block walk; finish_tick_cubic() once per slip phase, its root search at most
-//     kMaxCubicRootIterations iterations (and one proportion for a dip's minimum).
+//     kCubicRootNewtonSteps Newton steps from the root of its quadratic part (and one
+//     proportion for a dip's minimum).
 // docs/EMBEDDED.md gives what these cost on the Cortex-M targets and the worst frame measured.
 #pragma once
 
@@ -211,17 +212,24 @@ inline bool Oscillator<T, Law>::finish_tick_interpolated(Position& pos, T& x, T&
 template <typename T, typename Law>
 inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d, const Input& in,
                                                   T force_n, bool starting) const noexcept {
-  const T span = T(1) - pos.frac;
-  T a = relative_acceleration(x, v, force_n, input_at(in, phi(pos)));
-  // A slip phase starts at rest with a_r d >= 0 (the stick decision): the opposite sign is
-  // rounding. (The search from rest needs no start guard: see CubicSegment::first_crossing().)
-  if (starting && a * d < T(0)) a = T(0);
-  const T jerk = -(k_over_m_ * v + b_over_m_ * a) - by_unit(inv_dt_, in.a1 - in.a0);
-  const T snap = -(k_over_m_ * a + b_over_m_ * jerk);
-  const CubicSegment<T> segment(x, v, a, jerk, snap);
-  T root = T(0);
-  const bool found = d != T(0) && segment.first_crossing(d, span, root);
-  return end_on_segment(segment, found, root, pos.frac, pos, x, v);
+  // Compiled for the scalars whose traits offer the cubic search only (slip() calls this for
+  // them alone; the explicit instantiations of the others compile every member).
+  if constexpr (S::kCubicEventSearch) {
+    const T span = T(1) - pos.frac;
+    T a = relative_acceleration(x, v, force_n, input_at(in, phi(pos)));
+    // A slip phase starts at rest with a_r d >= 0 (the stick decision): the opposite sign is
+    // rounding. (The search from rest needs no start guard: see CubicSegment::first_crossing().)
+    if (starting && a * d < T(0)) a = T(0);
+    const T jerk = -(k_over_m_ * v + b_over_m_ * a) - by_unit(inv_dt_, in.a1 - in.a0);
+    const T snap = -(k_over_m_ * a + b_over_m_ * jerk);
+    const CubicSegment<T> segment(x, v, a, jerk, snap);
+    T root = T(0);
+    const bool found = d != T(0) && segment.first_crossing(d, span, root);
+    return end_on_segment(segment, found, root, pos.frac, pos, x, v);
+  } else {
+    (void)pos, (void)x, (void)v, (void)d, (void)in, (void)force_n, (void)starting;
+    return false;
+  }
 }
 
 // Integrates from `pos` to the end of the step with the given friction. With direction d != 0,

@@ -3,11 +3,16 @@
 // that keeps the reference seat at its break-away threshold as often as it can, so that steps
 // with events (break-away, stick, reversal, several in one step) and slips that come to rest
 // inside a step are as frequent as the physics allows, mixed with full-range jumps (slips at the
-// largest accelerations the signal holds).
+// largest accelerations the signal holds) and swings about the holding point.
 //   stickslip_node_hardest_input SECONDS OUTPUT.csv
 // The input is chosen sample by sample from the state of a double seat with the firmware's
-// parameters (port/baremetal/src/node.cpp): a_u such that the limit force -(m a_u + k x_r) lands
-// on +F_fs or -F_fs (alternating every 7 samples) plus an offset of random size and sign.
+// parameters (port/baremetal/src/node.cpp), in a cycle of 4 s:
+//   - 1 s of full-range jumps;
+//   - 2 s at the threshold: a_u such that the limit force -(m a_u + k x_r) lands on +F_fs or
+//     -F_fs (alternating every 7 samples) plus an offset of random size and sign;
+//   - 1 s of swings: the limit force uniform within +-s F_fs about 0, s = 1.5, 3, 6 or 10 by
+//     cycle (the Cortex-M4F's slowest frames come from these: a break-away, a slip and a stick
+//     in one step, from any starting force).
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -27,8 +32,9 @@ struct Xorshift {  // deterministic: the same file on every machine
   }
 };
 
-constexpr double kWord_m_per_s2 = 1.0 / 1024.0;  // SeatInput.a_u (docs/can/stickslip.dbc)
-constexpr long kLargestWord = 32767;             // its int16 range
+constexpr double kWord_m_per_s2 = 1.0 / 1024.0;       // SeatInput.a_u (docs/can/stickslip.dbc)
+constexpr long kLargestWord = 32767;                  // its int16 range
+constexpr double kSwings[4] = {1.5, 3.0, 6.0, 10.0};  // limit-force swings, in F_fs
 
 }  // namespace
 
@@ -54,14 +60,17 @@ int main(int argc, char** argv) {
   std::fprintf(out, "t,a_u\n");
   for (long n = 0; n < samples; ++n) {
     double a_u = 0.0;
-    if ((n / 1000) % 4 == 0) {
+    const long second = n / 1000;
+    const double holding = -params.stiffness_n_per_m * seat.x_r() / params.mass_kg;
+    if (second % 4 == 0) {
       a_u = 30.0 * random.uniform();  // full-range jumps: slipping, reversals
+    } else if (second % 4 == 2) {
+      const double swing = kSwings[(second / 4) % 4];
+      a_u = holding + swing * params.static_friction_n / params.mass_kg * random.uniform();
     } else {
       const double side = (n / 7) % 2 == 0 ? 1.0 : -1.0;
       const double offset = random.uniform() * std::pow(10.0, -3.0 * std::fabs(random.uniform()));
-      a_u = -(side * params.static_friction_n + params.stiffness_n_per_m * seat.x_r()) /
-                params.mass_kg +
-            offset;
+      a_u = holding - side * params.static_friction_n / params.mass_kg + offset;
     }
     long word = std::lround(a_u / kWord_m_per_s2);
     word = word > kLargestWord ? kLargestWord : (word < -kLargestWord ? -kLargestWord : word);

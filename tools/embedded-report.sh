@@ -80,6 +80,10 @@ for preset in cortex-m0plus cortex-m4f; do
     >"$work/$preset.wcet-frame.json"
   python3 tools/elf-wcet.py "$elf" CAN0_IRQHandler "${bounds[@]}" >"$work/$preset.wcet-gap.json"
 done
+# The float step with the event level the firmware's seat runs at (event_search_plan(): 0).
+python3 tools/elf-wcet.py build/cortex-m4f/port/baremetal/stickslip_firmware_qemu.elf CAN0_IRQHandler \
+  --bounds port/baremetal/loop-bounds.json --target cortex-m4f --set max_gap=0 --set kEventLevels=0 \
+  >"$work/cortex-m4f.wcet-frame-level0.json"
 
 stage "writing docs/EMBEDDED.md"
 WORK=$work COMMIT=$commit python3 - <<'EOF'
@@ -301,8 +305,10 @@ w("Counted by QEMU with `-icount shift=0` (one instruction = 1 ns of virtual tim
   "cycles on a real M0+ add a second cycle to loads, stores and taken branches, plus flash wait "
   "states, and depend on its multiplier option (MULS in 1 or 32 cycles). "
   "The slow frames are steps with events (about 1 % of the steps here): in float the event search "
-  "bisects the step on its dyadic grid to dt/2^16 and solves the Taylor polynomial inside the last "
-  "tick (Newton); in Q7.24 it solves the cubic Taylor polynomial of the whole step (Newton from the "
+  "bisects the step on its dyadic grid to ticks of dt/2^L and solves the Taylor polynomial inside "
+  "the last tick (Newton), where `event_search_plan()` takes L = 0 for this seat (its rate "
+  "sqrt(k/m) + b/m times dt is 0.017, below 1/16: the whole step is one tick, the polynomial of "
+  "order 3); in Q7.24 it solves the cubic Taylor polynomial of the whole step (Newton from the "
   "root of its quadratic part). The "
   "input is the candump log `stickslip replay --output-log` writes for the recording: its "
   "SeatInput frames, one per interrupt (the controller's filter passes SeatInput only). The "
@@ -380,9 +386,9 @@ w("**The bound.** Every loop of the step has a fixed trip count, stated in "
   "`kCubicRootNewtonSteps` = 3 Newton steps of a cubic's value, its slope and a proportion, and "
   "the state at the root). No other loop runs in Q7.24: no block walk (one tick per step), "
   "and a proportion is 24 shift-and-subtract rounds. Float, double and Q23.40 keep a budget of "
-  "32 (`kMaxEventsPerStep`), since they accept coarser steps, and float bisects to dt/2^16 "
-  "(at most 2^17 - 1 block maps per step) and runs up to `kMaxRootIterations` = 64 Newton or "
-  "bisection iterations per root.")
+  "32 (`kMaxEventsPerStep`), since they accept coarser steps, and float bisects to dt/2^L "
+  "(L up to 16 by the seat's rate, at most 2^(L+1) - 1 block maps per step) and runs up to "
+  "`kMaxRootIterations` = 64 Newton or bisection iterations per root.")
 w("")
 wcet = {preset: {kind: json.load(open(f"{work}/{preset}.wcet-{kind}.json"))
                  for kind in ("step", "frame", "gap")} for preset in ("cortex-m0plus", "cortex-m4f")}
@@ -430,6 +436,7 @@ for loop in wcet["cortex-m0plus"]["gap"]["loops"]:
     w(f"| `{short_name(loop['function'])}` | {loop['header']} | {loop['bound']:,}"
       f"{' per call' if loop.get('per_call') else ''} | {loop['turn']:,} | {loop.get('why', '')} |")
 w("")
+wcet_m4f_l0 = json.load(open(f"{work}/cortex-m4f.wcet-frame-level0.json"))["instructions_bound"]
 m0_step = wcet["cortex-m0plus"]["step"]["instructions_bound"]
 m0_frame = wcet["cortex-m0plus"]["frame"]["instructions_bound"]
 m0_hard = int(hard.get("cortex-m0plus", {}).get("instructions_per_frame_max", 0))
@@ -447,12 +454,16 @@ w(f"**What the bound says.** **Cortex-M0+**: no frame that follows no gap takes 
   "at 48 MHz. An integrator with a frame budget sets `max_gap` so that "
   f"(max_gap + 1) x {m0_step:,} (the step's bound) plus the node fits it; a longer gap is then a "
   "resync (no samples held), counted in `FaultCounters::resync`. "
-  "**Cortex-M4F**: the bound is of no practical use. The float step's stated trip counts are "
-  "loose: the block walk of `slip()` may make up to 2^17 - 1 block maps per step "
-  "(`event_search.hpp`), and the analysis charges each of them a turn that includes the Taylor "
-  "root search of up to 64 iterations, which in fact ends the walk; the event budget is 32. A "
-  "useful bound there needs a tighter count of the blocks the walk visits per event, which the "
-  "code does not state; QEMU's worst is the figure to use.")
+  "**Cortex-M4F**: the bound is of no practical use, and says which loops make it so. The "
+  "analysis takes the float step's trip counts as the code states them for any seat: the block "
+  "walk of `slip()` at up to 2^17 - 1 block maps per step (L = 16; the firmware's seat has "
+  "L = 0, which is set at run time and which the analysis cannot see), each charged a turn that "
+  "includes a Taylor root search of up to 64 iterations, in up to 33 passes of the event loop "
+  "(float's budget of 32 events is for coarse steps). With L = 0 given (`--set kEventLevels=0`) "
+  f"the frame's bound is still {wcet_m4f_l0:,}: the 33 passes times a root search of 64 "
+  "iterations. A useful bound needs float to take the exact solution's budget of 3 events where "
+  "the derived condition holds, as Q7.24 does, and a proven iteration count for its Taylor root "
+  "search; until then QEMU's worst is the figure to use.")
 w("")
 w("**Why the targets are missed.** "
   "**Cortex-M0+**: the cost of the arithmetic. A Q7.24 product is about 40 ARMv6-M instructions "
@@ -472,9 +483,10 @@ w("**Why the targets are missed.** "
   "cubic search (commit e18f547) it was 75,560 and 58,520; with the cubic search before the "
   "32-bit product rounding, add and proportion, 19,040 and 10,000; before the products by m = 1, "
   "dt = 1 and +-1 were skipped in scene units, 13,760 and 7,360. "
-  "**Cortex-M4F**: the event path bisects the step to dt/2^16 (17 block maps) before building "
-  "the Taylor polynomials and running Newton; its median frame (node included) is already above "
-  "600, and the node is about 1,000 of it.")
+  "**Cortex-M4F**: the node is about 1,000 instructions of the median frame of 1,200 (the "
+  "receive checks, the sample number, four word conversions and the encoding of two frames with "
+  "their CRCs), and a step with events builds a Taylor polynomial of order 3 and runs Newton on "
+  "it in float, a few hundred instructions more per event.")
 w("")
 w("## The ECU node around the step")
 w("")

@@ -20,7 +20,7 @@ set -euo pipefail
 # is deterministic, so the same ELFs measure the same figures on every machine.
 # Cortex-M0+ (Q7.24, one tick per step, the cubic search, at most 3 events): 11,600 measured.
 readonly kLimitM0plus=12180
-# Cortex-M4F (float, dt/2^16 ticks, Taylor/Newton inside a tick): 5,640 measured.
+# Cortex-M4F (float, one tick per step for this seat, Taylor/Newton inside it): 5,640 measured.
 readonly kLimitM4f=5920
 # The Cortex-M0+ target that is met: the worst frame at most 5 times the median, taken at the
 # lower edge of the median's 100-instruction bucket (the smallest the median can be).

@@ -447,8 +447,8 @@ TEST(ScaledFixedPoint32Oscillator, CubicSegmentIsTheExactSolutionToTheFormatsRes
 // at the root found, is within (2 + |slope|) units of Q7.24's last place: |slope| for the root's
 // own rounding (half a unit either side) and 2 for the rounding of the format's evaluations that
 // steer it (three products and adds). And it is the first crossing: the value along d stays
-// above that tolerance before the root. Regula falsi's 6 iterations left up to thousands of
-// units; two Newton steps, up to 73 on the coarsest seats.
+// above that tolerance before the root. Two Newton steps would leave up to 73 units on the
+// coarsest seats (kCubicRootNewtonSteps is 3), and regula falsi's 6 iterations thousands.
 TEST(ScaledFixedPoint32Oscillator, CubicSegmentRootIsExactToTheFormatsRounding) {
   using S = ScalarTraits<Fixed32>;
   const double lsb = S::to_double(S::epsilon());

@@ -144,7 +144,8 @@ STICKSLIP_FIXED_INLINE constexpr std::uint64_t square_root_16_bits(std::uint64_t
     }
     bit >>= 2;
   }
-  return std::uint64_t{root} << k;
+  // root < 2^16 and k <= 16: the shift fits 32 bits (no two-word shift routine on ARMv6-M).
+  return std::uint64_t{root << k};
 }
 
 // The first u in (0, 1] where c + b u + a u^2 falls through 0, given c > 0 (raw values of Q.F),

@@ -1,4 +1,4 @@
-// The observer (double), for the friction law the parameters name.
+// The observer (double), for the model the parameters and the scene name (end stops included).
 #include <pybind11/stl.h>
 
 #include <memory>
@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "module.hpp"
+#include "stickslip/models/scene.hpp"
 #include "stickslip/observer/observer.hpp"
 
 namespace stickslip::python {
@@ -29,10 +30,11 @@ class AnyObserver {
   virtual double seat_vdv() const = 0;
 };
 
-template <typename Law>
+// kEndStops: the observer of the seat with end stops (the scene's stops).
+template <typename Law, bool kEndStops>
 class ObserverOf final : public AnyObserver {
  public:
-  Observer<double, Law> observer;
+  Observer<double, Law, 10, true, kEndStops> observer;
   void reset(double a_u0, double x0_m, double v0_m_per_s) override {
     observer.reset(a_u0, x0_m, v0_m_per_s);
   }
@@ -56,22 +58,26 @@ class PyObserver {
   PyObserver(double dt_s, const py::dict& options, double window_s, double exponential_time_s,
              double regime_hysteresis_k, double mismatch_rms) {
     const RunSpec spec = parse_spec(options);
-    if (spec.scalar != ScalarType::float64 || spec.setup.reference ||
-        (spec.setup.effects & kEndStops)) {
+    if (spec.scalar != ScalarType::float64 || spec.setup.reference) {
       throw HostError(
-          "Observer runs the core's oscillator in double, without end stops or the reference "
-          "solver");
+          "Observer runs the core's oscillator in double (with the scene's end stops), not the "
+          "reference solver");
     }
     ObserverParams params;
     params.model = spec.setup.params;
     params.model.dt_s = dt_s;
+    params.stops = spec.setup.stops;
     params.window_s = window_s;
     params.exponential_time_s = exponential_time_s;
     params.regime_hysteresis_k = regime_hysteresis_k;
     params.mismatch_rms_m_per_s2 = mismatch_rms;
-    with_oscillator<double>(params.model, [&](auto& prototype) {
-      using Law = typename std::decay_t<decltype(prototype)>::FrictionLaw;
-      auto made = std::make_unique<ObserverOf<Law>>();
+    // The model type the scene names (models/scene.hpp), as Oscillator and simulate() choose it.
+    const SceneParams scene{spec.setup.effects, params.model, params.stops};
+    with_scene_model<double>(scene, [&](auto& prototype) {
+      using Model = std::decay_t<decltype(prototype)>;
+      using Law = typename Model::FrictionLaw;
+      constexpr bool kEndStops = std::is_same_v<Model, EndStopOscillator<double, Law>>;
+      auto made = std::make_unique<ObserverOf<Law, kEndStops>>();
       const ConfigResult configured = made->observer.configure(params);
       if (!configured.ok())
         throw HostError(explain_configuration_error(configured.message.c_str()));

@@ -180,15 +180,13 @@ RunSpec parse_spec(const py::dict& options) {
       throw HostError("repetitions: must be >= 1, got " + std::to_string(setup.repetitions));
     }
   }
-  const bool fixed = spec.scalar == ScalarType::fixed || spec.scalar == ScalarType::fixed32;
   if (setup.reference && spec.scalar != ScalarType::float64) {
     throw HostError(std::string("scalar '") + host::scalar_name(spec.scalar) +
                     "': the reference integrator runs in double only; use scalar='double'");
   }
-  if ((setup.effects & kEndStops) && (setup.reference || fixed)) {
-    throw HostError(
-        "scene: end stops run in double or float with the core's exact integrator "
-        "(not integrator='reference', not a fixed-point scalar)");
+  if (spec.scalar == ScalarType::fixed32) {
+    const std::string refusal = host::fixed32_scene_refusal(setup.effects);
+    if (!refusal.empty()) throw HostError("scalar 'fixed32': " + refusal);
   }
   return spec;
 }

@@ -1,6 +1,7 @@
 // The end-stop scene (docs/scenes/seat-with-end-stops.toml) with the Stribeck law (--model
 // stribeck) and in fixed point (--scalar fixed): simulate runs them, replay runs the Stribeck one
-// through the ECU node bit for bit as simulate does, and what cannot run is refused in one line.
+// and the Q23.40 one through the ECU node bit for bit as simulate does, and what cannot run is
+// refused in one line.
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -103,6 +104,27 @@ TEST(EndStopScenes, FixedPointRunsTheEndStopSceneAsDouble) {
   const double t_ax = f["T_ax"].get<double>(), t_ref = d["T_ax"].get<double>();
   CHECK(std::fabs(t_ax - t_ref) <= 1e-7 * t_ref);
   CHECK(std::fabs(f["p_stick"].get<double>() - d["p_stick"].get<double>()) <= 1e-8);
+}
+
+// replay --scalar fixed runs the end-stop scene through the ECU node's Q23.40 end-stop model: its
+// trace equals simulate --scalar fixed's on the same (quantised) samples, bit for bit, with the
+// same contacts (the node and simulate step one model; nothing may differ, not even rounding).
+TEST(EndStopScenes, ReplayInFixedPointEqualsSimulateBitForBit) {
+  const std::string replayed = dir.file("replayed.csv"), simulated = dir.file("simulated.csv");
+  const test::CliRun replay =
+      test::run_stickslip({"replay", "--scene", end_stop_scene(), "--input", hard, "--bus",
+                           "loopback", "--scalar", "fixed", "--output", replayed});
+  LONGS_EQUAL_TEXT(0, replay.status, replay.err.c_str());
+  const test::CliRun run =
+      test::run_stickslip({"simulate", "--scene", end_stop_scene(), "--input", replayed, "--scalar",
+                           "fixed", "--output", simulated, "--repetitions", "1"});
+  LONGS_EQUAL_TEXT(0, run.status, run.err.c_str());
+  CHECK(test::read_text(replayed) == test::read_text(simulated));
+  STRCMP_EQUAL("fixed", stats_of(replay)["scalar"].get<std::string>().c_str());
+  CHECK(stats_of(replay)["end_stop_contacts"].get<int>() > 10);
+  CHECK_EQUAL(stats_of(run)["end_stop_contacts"].get<int>(),
+              stats_of(replay)["end_stop_contacts"].get<int>());
+  CHECK_EQUAL(0, stats_of(replay)["saturated_steps"].get<int>());
 }
 
 // What cannot run is refused in one line, with no output: Q7.24 (its grid tick of dt/2^16 has 8

@@ -47,6 +47,15 @@ def lorry_csv(cli, tmp_path_factory):
     return path
 
 
+@pytest.fixture(scope="session")
+def hard_csv(cli, tmp_path_factory):
+    """10 s of the lorry recording at RMS 4 m/s^2: the seat of the end-stop scene hits its stops."""
+    path = tmp_path_factory.mktemp("recordings") / "hard.csv"
+    run_cli(cli, "generate", "--kind", "lorry", "--rms", 4, "--duration", 10, "--dt", 0.001,
+            "--seed", 2, "--output", path)
+    return path
+
+
 def cli_simulate(cli, input_path, out_dir, *flags):
     """`stickslip simulate` once (--repetitions 1): (columns as float64 arrays, stats dict)."""
     output = Path(out_dir) / "out.csv"

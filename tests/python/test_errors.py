@@ -49,6 +49,17 @@ def test_fixed_point_refuses_the_models_it_does_not_offer():
         stickslip.simulate(np.zeros(10), 0.001, model="stribeck", ffk=40, ffs=60, scalar="fixed")
 
 
+def test_q7_24_refuses_end_stops_with_the_commands_reason(cli, source_dir, tmp_path):
+    scene = source_dir / "docs" / "scenes" / "seat-with-end-stops.toml"
+    with pytest.raises(ValueError, match=r"^scalar 'fixed32': end stops .*dt/2\^16") as refused:
+        stickslip.simulate(np.zeros(10), 0.001, scene=scene, scalar="fixed32")
+    output = tmp_path / "refused.csv"
+    message = cli_error(cli, "simulate", "--scene", scene, "--scalar", "fixed32", "--input",
+                        source_dir / "README.md", "--output", output)
+    assert message.split("--scalar fixed32: ", 1)[1] == core_part(str(refused.value))
+    assert not output.exists()
+
+
 def test_unknown_keyword_in_a_batch_names_it_and_its_index():
     with pytest.raises(ValueError, match=r"^params_list\[1\]: unknown parameter 'masss'"):
         stickslip.simulate_batch(np.zeros(10), 0.001, [{"ffk": 1}, {"masss": 80}])

@@ -79,6 +79,21 @@ def test_observer_model_follows_the_oscillator_and_judges_the_regime(recording):
     assert not summary["model_mismatch"]
 
 
+def test_observer_of_the_end_stop_scene_follows_its_oscillator(hard_csv, source_dir):
+    recording = stickslip.read_recording(hard_csv)
+    a_u, dt = recording["a_u"], recording["dt"]
+    scene = source_dir / "docs" / "scenes" / "seat-with-end-stops.toml"
+    trace, stats = stickslip.simulate(a_u, dt, scene=scene)
+    assert stats["end_stop_contacts"] > 10
+    observer = stickslip.Observer(dt, window_s=1.0, scene=scene)
+    observer.reset(a_u[0])
+    estimates = [observer.update(a, measured) for a, measured in zip(a_u[1:], trace["a_x"][1:])]
+    assert np.array_equal(np.array([e.model.x_r for e in estimates]), trace["x_r"][1:])
+    assert np.array_equal(np.array([e.model.a_x for e in estimates]), trace["a_x"][1:])
+    assert all(e.measured and e.residual == 0.0 for e in estimates)
+    assert observer.summary()["samples"] == len(a_u) - 1
+
+
 def test_observer_refuses_a_window_shorter_than_its_blocks():
     with pytest.raises(ValueError, match=r"^window_s: window_s = "):
         stickslip.Observer(0.001, window_s=0.001)

@@ -75,6 +75,21 @@ def test_scene_file_gives_the_commands_run(cli, lorry_csv, tmp_path, source_dir,
     assert_same_run(trace, stats, cli_trace, cli_stats)
 
 
+@pytest.mark.parametrize("scalar,integrator", [("fixed", None), ("double", "reference")])
+def test_end_stop_scene_in_fixed_point_or_the_reference_gives_the_commands_run(
+        cli, hard_csv, tmp_path, source_dir, scalar, integrator):
+    path = source_dir / "docs" / "scenes" / "seat-with-end-stops.toml"
+    flags = ["--scene", path, "--scalar", scalar]
+    arguments = dict(scene=path, scalar=scalar)
+    if integrator:
+        flags += ["--integrator", integrator]
+        arguments["integrator"] = integrator
+    cli_trace, cli_stats = cli_simulate(cli, hard_csv, tmp_path, *flags)
+    trace, stats = stickslip.simulate(str(hard_csv), **arguments)
+    assert_same_run(trace, stats, cli_trace, cli_stats)
+    assert stats["end_stop_contacts"] > 10
+
+
 def test_arguments_override_the_scene_as_the_flags_do(cli, lorry_csv, tmp_path, source_dir):
     path = source_dir / "docs" / "scenes" / "lorry-seat-stick-slip.toml"
     cli_trace, cli_stats = cli_simulate(cli, lorry_csv, tmp_path, "--scene", path, "--ffk", 20,

@@ -143,14 +143,16 @@ class SeatModelFor final : public SeatModel {
 };
 
 // Fixed point (Q23.40): the loop body of simulate_signal_fixed() (the input converted as an ECU
-// converts it, statistics in double). No observer (its windows and filters run in float or
-// double): the published T_ax, p and K are those of the whole stream so far.
-template <typename Law>
+// converts it, statistics in double) on the model with_fixed_scene_model() chooses, so with end
+// stops too. No observer (its windows and filters run in float or double): the published T_ax, p
+// and K are those of the whole stream so far.
+template <typename Model>
 class SeatModelFixed final : public SeatModel {
  public:
   explicit SeatModelFixed(const SimulationSetup& setup)
       : setup_(setup), x0_(setup.x0_m), v0_(setup.v0_m_per_s) {
-    const ConfigResult configured = oscillator_.configure(setup.params);
+    const ConfigResult configured =
+        configure_for_scene(oscillator_, SceneParams{setup.effects, setup.params, setup.stops});
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
   }
   SampleOutput first(double a_u) override {
@@ -196,7 +198,7 @@ class SeatModelFixed final : public SeatModel {
             out.friction_n.to_double(), out.stuck};
   }
   SimulationSetup setup_;
-  Oscillator<Fixed, Law> oscillator_;
+  Model oscillator_;
   RunningStatistics<double> statistics_;
   std::uint64_t events_ = 0;
   std::uint64_t samples_ = 0;
@@ -205,9 +207,9 @@ class SeatModelFixed final : public SeatModel {
 };
 
 std::unique_ptr<SeatModel> make_fixed_model(const SimulationSetup& setup) {
-  return with_fixed_oscillator(setup.params, [&](auto& oscillator) -> std::unique_ptr<SeatModel> {
-    using Osc = std::decay_t<decltype(oscillator)>;
-    return std::make_unique<SeatModelFixed<typename Osc::FrictionLaw>>(setup);
+  const SceneParams scene{setup.effects, setup.params, setup.stops};
+  return with_fixed_scene_model(scene, [&](auto& model) -> std::unique_ptr<SeatModel> {
+    return std::make_unique<SeatModelFixed<std::decay_t<decltype(model)>>>(setup);
   });
 }
 
@@ -327,8 +329,6 @@ EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config) {
   if (config_.setup.reference) throw UsageError("the ECU node runs the core's integrators only");
   const std::string refusal = ecu_node_scalar_refusal(config_.scalar);
   if (!refusal.empty()) throw UsageError(refusal);
-  if ((config_.setup.effects & kEndStops) && config_.scalar == ScalarType::fixed)
-    throw UsageError("--scalar fixed: end stops run in double or float");
   model_ = config_.scalar == ScalarType::fixed     ? make_fixed_model(config_.setup)
            : config_.scalar == ScalarType::float32 ? make_model<float>(config_.setup)
                                                    : make_model<double>(config_.setup);

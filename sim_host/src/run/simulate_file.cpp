@@ -132,12 +132,9 @@ void check_request(const SimulateRequest& request) {
       throw UsageError("--stats and --output name the same file: " + request.output_path);
     }
   }
-  if ((request.setup.effects & kEndStops) && request.scalar == ScalarType::fixed32) {
-    // The end-stop model's event grid is dt/2^16: in Q7.24's scene units (dt = 1) that tick has
-    // 8 significant bits, below the 10 every fixed-point coefficient must keep.
-    throw UsageError(
-        "--scalar fixed32: end stops locate contacts on a grid of dt/2^16, which Q7.24 holds "
-        "to 8 bits (it needs 10); use --scalar fixed (Q23.40), double or float");
+  if (request.scalar == ScalarType::fixed32) {
+    const std::string refusal = fixed32_scene_refusal(request.setup.effects);
+    if (!refusal.empty()) throw UsageError("--scalar fixed32: " + refusal);
   }
 }
 

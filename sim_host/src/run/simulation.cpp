@@ -260,31 +260,28 @@ SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
                                         const std::vector<double>& a_u,
                                         SimulationTrace<double>& trace) {
   prepare_fixed_point_run<Fixed>(setup, a_u.size(), trace);
-  if (setup.effects & kEndStops) {
-    // The seat with end stops in Q23.40: its configure() checks the seat free and in contact.
-    const SceneParams scene{setup.effects, setup.params, setup.stops};
-    const auto run = [&](auto& model) {
-      const ConfigResult configured = configure_for_scene(model, scene);
-      if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
-      return run_fixed_point<Fixed>(setup, a_u, trace, model, SceneUnits{});  // SI
-    };
-    if (setup.params.model == FrictionModel::linear) {
-      EndStopOscillator<Fixed, NoFriction> model;
-      return run(model);
-    }
-    EndStopOscillator<Fixed, CoulombStickSlip> model;
-    return run(model);
-  }
-  return with_fixed_oscillator(setup.params, [&](auto& oscillator) {
-    const ConfigResult configured = oscillator.configure(setup.params);
+  // With end stops, the end-stop model's configure() checks the seat free and in contact.
+  const SceneParams scene{setup.effects, setup.params, setup.stops};
+  return with_fixed_scene_model(scene, [&](auto& model) {
+    const ConfigResult configured = configure_for_scene(model, scene);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
-    return run_fixed_point<Fixed>(setup, a_u, trace, oscillator, SceneUnits{});  // SI
+    return run_fixed_point<Fixed>(setup, a_u, trace, model, SceneUnits{});  // SI
   });
+}
+
+std::string fixed32_scene_refusal(unsigned effects) {
+  if ((effects & kEndStops) == 0) return {};
+  // In Q7.24's scene units (dt = 1) the grid's tick has 8 significant bits, below the 10 every
+  // fixed-point coefficient must keep.
+  return "end stops locate contacts on a grid of dt/2^16, which Q7.24 holds to 8 bits (it needs "
+         "10); use fixed (Q23.40), double or float";
 }
 
 SimulationSummary simulate_signal_fixed32(const SimulationSetup& setup,
                                           const std::vector<double>& a_u,
                                           SimulationTrace<double>& trace) {
+  const std::string refusal = fixed32_scene_refusal(setup.effects);
+  if (!refusal.empty()) throw UsageError("fixed32: " + refusal);
   prepare_fixed_point_run<Fixed32>(setup, a_u.size(), trace);
   return with_fixed_law<Fixed32Seat>(setup.params, [&](auto& seat) {
     const ConfigResult configured = seat.configure(setup.params);

@@ -7,7 +7,9 @@
 #include "stickslip/core/fixed_point.hpp"
 #include "stickslip/core/params.hpp"
 #include "stickslip/friction/laws.hpp"
+#include "stickslip/models/end_stops.hpp"
 #include "stickslip/models/oscillator.hpp"
+#include "stickslip/models/scene.hpp"
 
 namespace stickslip::host {
 
@@ -44,6 +46,22 @@ using FixedSeat = Oscillator<Fixed, Law>;
 template <typename Fn>
 inline decltype(auto) with_fixed_oscillator(const OscillatorParams& params, Fn&& fn) {
   return with_fixed_law<FixedSeat>(params, std::forward<Fn>(fn));
+}
+
+// Q23.40 with the scene's effects: with end stops the end-stop model (no friction, or Coulomb
+// stick-slip, whose configure() refuses any other model by name), else with_fixed_oscillator's.
+// Configure the model with configure_for_scene().
+template <typename Fn>
+inline decltype(auto) with_fixed_scene_model(const SceneParams& scene, Fn&& fn) {
+  if (scene.effects & kEndStops) {
+    if (scene.seat.model == FrictionModel::linear) {
+      EndStopOscillator<Fixed, NoFriction> model;
+      return fn(model);
+    }
+    EndStopOscillator<Fixed, CoulombStickSlip> model;
+    return fn(model);
+  }
+  return with_fixed_oscillator(scene.seat, std::forward<Fn>(fn));
 }
 
 }  // namespace stickslip::host

@@ -20,33 +20,36 @@ struct StepOutput {
   std::uint8_t events;  // stick, break-away and reversal events inside this step
 };
 
-// Safety limit on events inside one step; at it the step finishes in its current mode. Keeps the
-// worst-case time of step() bounded; a step where that lost an event (stuck to the end with |F_L|
-// beyond F_fs, or slipping to the end with v_r against its direction) is counted in
-// SafetyCounters::event_budget_exhausted (the end-stop model counts every step that reaches it).
+// A safety limit on events inside one step, for the models whose events are not bounded below
+// it by the argument that follows: the end-stop model (its contacts and releases come on top of
+// the friction's events) and Stribeck (its slip force changes with v_r inside a piece of motion).
+// At it the step finishes in its current mode, which keeps the worst-case time of step()
+// bounded; a step where that lost an event is counted in SafetyCounters::event_budget_exhausted
+// (the end-stop model counts every step that reaches it).
 inline constexpr int kMaxEventsPerStep = 32;
 
-// The most events the exact solution of a law with a stuck state has in one step when
-//   (b/m) dt + (k/m) dt^2 / 2 < 1
-// (the reference seat: dt below 88 ms), with a_u linear and the actuator force held over the step
-// (Stribeck: read its slip friction, at most F_fs and falling with speed, for F_fk below).
-// F_L = f_a - m a_u - k x_r, the force that holds the seat at rest, then moves one way, s, all
-// step (at any fixed x_r), and:
-//   - a slip that starts from rest inside the step in the direction s does not return to rest in
-//     it. With w = v_r d and z = x_r d counted from its start, Delta = F_L d - F_fk >= 0 there and
-//     F_L d growing at c >= 0: w <= (Delta t + c t^2/2)/m and z <= (Delta t^2/2 + c t^3/6)/m, so
-//     m w' >= Delta (1 - b t/m - k t^2/(2m)) + c t (1 - b t/(2m) - k t^2/(6m)) > 0;
+// The most events the exact solution of a law with a stuck state and a constant slip force
+// (Coulomb stick-slip, F_fs >= F_fk; the held signum law, F_fs = F_fk) has in one step, for every
+// step configure() accepts (omega0 dt <= pi/2), with a_u linear and the actuator force held over
+// the step: Oscillator's event budget for these laws, every scalar. F_L = f_a - m a_u - k x_r,
+// the force that holds the seat at rest, moves one way, s, all step (at any fixed x_r; linear in
+// time), and:
+//   - a slip that starts from rest inside the step in the direction d = s does not return to rest
+//     in it. Counted from its start, y = (x_r - x_r(0)) d obeys m y'' + b y' + k y = f(t),
+//     y(0) = y'(0) = 0, with f = F_L d - F_fk: f(0) >= F_fs - F_fk >= 0 by the stick decision and
+//     f' >= 0. So y'(t) = g(t) f(0) + (the integral from 0 to t of g(t - tau) f'(tau) dtau), where
+//     g is the displacement's impulse response, e^(-zeta omega0 t) sin(omega_d t) / (m omega_d):
+//     positive until omega_d t = pi, which is beyond the step since omega_d <= omega0 and
+//     omega0 dt <= pi/2 (and for zeta >= 1 positive for all t). So y' > 0 all step;
 //   - a break-away inside the step goes the way F_L moves, s (one at the step's start, where f_a
 //     may jump, may go against it);
-//   - where a slip returns to rest, F_L d <= F_fk at the x_r reached (m w' <= 0 there): it sticks
+//   - where a slip returns to rest, F_L d <= F_fk at the x_r reached (m y'' <= 0 there): it sticks
 //     or reverses, never slips on the same way, and a reversal of a slip against s goes towards s;
 //     a stick ends in a break-away towards s, or lasts to the step's end.
 // So only a slip entering the step, or one against s, returns to rest, and the longest chains are
 // (a break-away against s at the start, or a slip entering towards s that comes to rest and
-// reverses), a return to rest that sticks, a break-away towards s: 3 events. Q7.24 takes this as
-// its budget, and its configure() refuses steps beyond the condition: the bound on its step's
-// work is then the exact solution's own. The other scalars accept coarser steps, where the exact
-// solution may need more, and keep kMaxEventsPerStep.
+// reverses), a return to rest that sticks, a break-away towards s: 3 events.
+// tests/core/test_stick_slip.cpp counts them on a run 32 times finer, up to omega0 dt = pi/2.
 inline constexpr int kMaxEventsOfTheExactSolutionPerStep = 3;
 
 // Every count stays 0 for an accepted configuration driven by finite input; a non-zero count says

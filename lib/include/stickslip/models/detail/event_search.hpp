@@ -19,7 +19,8 @@
 //   - step_sticking()'s and step_held()'s event loops: at most kEventBudget + 1 passes (each pass
 //     but the last locates one event; at the budget the step finishes in its mode, counted where
 //     that lost an event: stuck with |F_L| beyond F_fs at the end, or v_r against the direction):
-//     kMaxEventsPerStep = 32, and in Q7.24 the exact solution's own 3 (step_common.hpp);
+//     the exact solution's own 3 for a constant slip force (step_common.hpp), every scalar, and
+//     kMaxEventsPerStep = 32 for Stribeck;
 //   - slip()'s block walk: at most 2^(L+1) - 1 block maps per step over all its calls, since the
 //     walk only moves forward and evaluates each dyadic block of the step at most once (it starts
 //     at a position only on blocks that start there); lowest_set_bit(): at most L shifts;

@@ -9,6 +9,7 @@
 
 #include "CppUTest/TestHarness.h"
 #include "oracles.hpp"
+#include "stickslip/core/fixed_point.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
 
@@ -318,11 +319,11 @@ TEST(StickSlip, SeveralEventsInOneLargeStepMatchAFineRun) {
 // times finer on the identical piecewise-linear input, whose budget cannot cut a coarse step's
 // events short (a sub-step holds a fraction of them). The coarse run in double locates exactly the
 // events the fine run counts, step by step, and no coarse run loses one (event_budget_exhausted()
-// stays 0): double and float. Stribeck, whose budget stays kMaxEventsPerStep (its slip force
-// changes with v_r), also stays within the bound on these inputs: measured, not proven. Hostile
-// inputs: a_u jumping every sample across a range that carries F_L past +-F_fs and back, and an
-// actuator force that jumps at samples (so that break-aways at a step's start go against F_L's
-// motion), at steps up to the acceptance limit.
+// stays 0): double, float and Q23.40. Stribeck, whose budget stays kMaxEventsPerStep (its slip
+// force changes with v_r), also stays within the bound on these inputs: measured, not proven.
+// Hostile inputs: a_u jumping every sample across a range that carries F_L past +-F_fs and back,
+// and an actuator force that jumps at samples (so that break-aways at a step's start go against
+// F_L's motion), at steps up to the acceptance limit.
 TEST(StickSlip, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
   constexpr int kFine = 32;
   int most_events = 0, most_events_stribeck = 0;
@@ -337,10 +338,12 @@ TEST(StickSlip, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
         p.static_friction_n = static_over_kinetic * p.kinetic_friction_n;
         Oscillator<double, CoulombStickSlip> seat, fine;
         Oscillator<float, CoulombStickSlip> seat_float;
+        Oscillator<Fixed, CoulombStickSlip> seat_fixed;
         Oscillator<double, StribeckStickSlip> stribeck;
         Oscillator<float, StribeckStickSlip> stribeck_float;
         CHECK(seat.configure(p).ok());
         CHECK(seat_float.configure(p).ok());
+        CHECK(seat_fixed.configure(p).ok());
         OscillatorParams stribeck_params = p;
         stribeck_params.model = FrictionModel::stribeck;
         stribeck_params.static_friction_n = 1.3 * p.kinetic_friction_n;
@@ -360,6 +363,7 @@ TEST(StickSlip, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
               (n % 5 == 0) ? 0.5 * p.static_friction_n * random.uniform(-1.0, 1.0) : 0.0;
           const auto out = seat.step(a_u, f_a);
           seat_float.step(static_cast<float>(a_u), static_cast<float>(f_a));
+          seat_fixed.step(Fixed(a_u), Fixed(f_a));
           most_events_stribeck = std::max(
               {most_events_stribeck, static_cast<int>(stribeck.step(a_u, f_a).events),
                static_cast<int>(
@@ -377,6 +381,8 @@ TEST(StickSlip, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
         }
         CHECK_EQUAL(0u, seat.event_budget_exhausted());
         CHECK_EQUAL(0u, seat_float.event_budget_exhausted());
+        CHECK_EQUAL(0u, seat_fixed.event_budget_exhausted());
+        CHECK_EQUAL(0u, seat_fixed.saturated_steps());
         CHECK_EQUAL(0u, fine.event_budget_exhausted());
         CHECK_EQUAL(0u, stribeck.event_budget_exhausted());
         CHECK_EQUAL(0u, stribeck_float.event_budget_exhausted());

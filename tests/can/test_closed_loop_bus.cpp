@@ -136,6 +136,37 @@ TEST(ClosedLoopBus, LockStepLoopEqualsInProcessLoopWithBusResolutionBitForBit) {
   CHECK_EQUAL(0u, bus.controller.sample_gaps + bus.controller.corrupt_frames);
 }
 
+// The plant node runs the scene's model as closed-loop does, end stops included: with stops at
+// +-2 mm the controlled seat hits them (7 times), and the loop over the bus still equals the
+// in-process loop bit for bit, the contact count included.
+TEST(ClosedLoopBus, LockStepLoopWithEndStopsEqualsInProcessLoopBitForBit) {
+  test::TempDir dir;
+  const std::string input = lorry(dir);
+  ClosedLoopSetup setup = skyhook_setup();
+  setup.plant.params.dt_s = 1e-3;
+  setup.plant.effects |= kEndStops;
+  setup.plant.params.integrator = Integrator::exact;  // the end-stop model's only one
+  setup.plant.stops.travel_m = 0.002;
+
+  ClosedLoopRequest in_process;
+  in_process.input_path = input;
+  in_process.output_path = dir.file("in_process.csv");
+  in_process.setup = setup;
+  set_can_resolution(in_process.setup);
+  const ClosedLoopResult reference = closed_loop_file(in_process);
+
+  const BusRun bus = run_over_bus(setup, input, dir.file("bus.csv"), {});
+  const std::string expected = test::read_text(in_process.output_path);
+  CHECK_TRUE(expected.size() > 1000);
+  CHECK_TRUE(expected == test::read_text(dir.file("bus.csv")));
+  const nlohmann::json r = nlohmann::json::parse(reference.json),
+                       p = nlohmann::json::parse(bus.plant.json);
+  STRCMP_EQUAL(r["controlled"].dump().c_str(), p["controlled"].dump().c_str());
+  CHECK_TRUE(p["controlled"]["end_stop_contacts"].get<int>() > 5);
+  CHECK_TRUE(r["controlled"]["force_rms"].get<double>() > 1.0);
+  STRCMP_EQUAL("ok", bus.plant.state.c_str());
+}
+
 TEST(ClosedLoopBus, WithoutBusResolutionTheInProcessLoopDiffers) {
   // The control of the test above: the bus's quantisation is what the twin reproduces.
   test::TempDir dir;

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <type_traits>
 
 #include "bus_endpoint.hpp"
 #include "stickslip/can/codec.hpp"
@@ -16,6 +17,8 @@
 #include "stickslip/host/signals/random.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
+#include "stickslip/models/end_stops.hpp"
+#include "stickslip/models/scene.hpp"
 
 namespace stickslip::host {
 
@@ -96,7 +99,8 @@ std::string plant_json(const PlantNodeRequest& request, const PlantNodeResult& r
   json["first_failsafe_sample"] = r.counters.first_failsafe_sample;
   json["last_failsafe_sample"] = r.counters.last_failsafe_sample;
   json["bus_down_sample"] = r.counters.bus_down_sample;
-  json["controlled"] = nlohmann::ordered_json::parse(control_figures_json(r.figures, true));
+  json["controlled"] = nlohmann::ordered_json::parse(
+      control_figures_json(r.figures, true, (request.setup.plant.effects & kEndStops) != 0));
   if (request.pace == Pace::realtime) {
     nlohmann::ordered_json pacing;
     pacing["ticks"] = r.pacing.ticks;
@@ -142,11 +146,6 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
   if (!(request.connect_timeout_s > 0.0 && std::isfinite(request.connect_timeout_s)))
     throw UsageError(
         fmt::format("--connect-timeout: must be > 0 s, got {}", request.connect_timeout_s));
-  if (request.setup.plant.effects & kEndStops) {
-    throw UsageError(
-        "--scene: the plant node runs the seat without end stops; drop the end stops from the "
-        "scene, or run it in process with closed-loop");
-  }
   PlantNodeResult result;
   const SampledSignal signal =
       read_continuous_recording(request.input_path, request.recording, "plant", &result.recording);
@@ -287,8 +286,11 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
   const auto failsafe_wait = std::chrono::duration_cast<Clock::duration>(
       std::chrono::duration<double>(std::max(dt_s, 1e-3)));
 
-  with_oscillator<double>(setup.plant.params, [&](auto& seat) {
-    configured = seat.configure(setup.plant.params);
+  // The plant is the scene's model, as closed-loop's (with end stops: the end-stop model).
+  const SceneParams scene{setup.plant.effects, setup.plant.params, setup.plant.stops};
+  std::uint64_t contacts = 0;
+  with_scene_model<double>(scene, [&](auto& seat) {
+    configured = configure_for_scene(seat, scene);
     if (!configured.ok())
       throw UsageError(fmt::format("invalid parameters: {}", configured.message.c_str()));
     seat.reset(setup.plant.x0_m, setup.plant.v0_m_per_s, a_u[0]);
@@ -338,9 +340,13 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
             decide(n, await_answer(n, Clock::now() + (failing_safe ? failsafe_wait : timeout)));
       }
     }
+    using Model = std::remove_reference_t<decltype(seat)>;
+    if constexpr (std::is_same_v<Model, EndStopOscillator<double, typename Model::FrictionLaw>>)
+      contacts = seat.contacts();
   });
   result.figures = measure_control(a_u, plant, trace.f_a_n, dt_s);
   result.figures.stick_probability = steps.stick_probability();
+  result.figures.end_stop_contacts = contacts;
   result.pacing = pacing_report(std::move(lateness_s), dt_s);
   result.state = bus_down ? "bus_down" : (missing_run > request.hold_frames ? "failsafe" : "ok");
 

@@ -42,8 +42,9 @@ class PlantCommand : public Command {
         ->required();
     command.add_option("--stats", request_.stats_path, "also write the JSON line here");
     command.add_option("--bus", request_.bus, "CAN interface, e.g. vcan0")->required();
-    model_.add_to(command, request_.setup.plant,
-                  "scene file (TOML, docs/scenes/) without end stops; the flags below override it");
+    model_.add_to(
+        command, request_.setup.plant,
+        "scene file (TOML, docs/scenes/), end stops included; the flags below override it");
     ClosedLoopSetup& s = request_.setup;
     add_sensor_noise_options(command, s);
     command.add_option("--seed", s.seed, "seed of the sensor noise (default 1)");

@@ -287,8 +287,8 @@ nlohmann::ordered_json figures_json(const ControlFigures& f, bool controlled, bo
 
 }  // namespace
 
-std::string control_figures_json(const ControlFigures& figures, bool controlled) {
-  return figures_json(figures, controlled, false)
+std::string control_figures_json(const ControlFigures& figures, bool controlled, bool end_stops) {
+  return figures_json(figures, controlled, end_stops)
       .dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace);
 }
 

@@ -100,7 +100,8 @@ void write_loop_trace(CsvWriter& writer, const std::vector<double>& t_s,
                       const std::vector<double>& a_u, const ClosedLoopTrace& trace);
 
 // The figures as closed-loop's JSON prints them (controlled: with the force figures).
-std::string control_figures_json(const ControlFigures& figures, bool controlled);
+std::string control_figures_json(const ControlFigures& figures, bool controlled,
+                                 bool end_stops = false);
 
 // Gain sweep: `count` gains from `low` to `high` (both included, evenly spaced).
 struct GainSweep {

@@ -102,12 +102,12 @@ BusRun run_over_bus(const ClosedLoopSetup& setup, const std::string& input,
 
 TEST_GROUP(ClosedLoopBus){};
 
-TEST(ClosedLoopBus, LockStepLoopEqualsInProcessLoopWithBusResolutionBitForBit) {
+// The lock-step loop over the bus against the in-process loop with the bus's resolutions: the
+// trace byte for byte (the same doubles written the same way) and the figures (the same numbers
+// in the same JSON text), every step with its answer. Returns the plant node's JSON line.
+static nlohmann::json check_bus_loop_equals_in_process_loop(const ClosedLoopSetup& setup) {
   test::TempDir dir;
   const std::string input = lorry(dir);
-  ClosedLoopSetup setup = skyhook_setup();
-  setup.plant.params.dt_s = 1e-3;
-
   ClosedLoopRequest in_process;
   in_process.input_path = input;
   in_process.output_path = dir.file("in_process.csv");
@@ -116,11 +116,9 @@ TEST(ClosedLoopBus, LockStepLoopEqualsInProcessLoopWithBusResolutionBitForBit) {
   const ClosedLoopResult reference = closed_loop_file(in_process);
 
   const BusRun bus = run_over_bus(setup, input, dir.file("bus.csv"), {});
-  // The trace byte for byte: the same doubles written the same way.
   const std::string expected = test::read_text(in_process.output_path);
   CHECK_TRUE(expected.size() > 1000);
   CHECK_TRUE(expected == test::read_text(dir.file("bus.csv")));
-  // The figures: the same numbers in the same JSON text.
   const nlohmann::json r = nlohmann::json::parse(reference.json),
                        p = nlohmann::json::parse(bus.plant.json);
   STRCMP_EQUAL(r["controlled"].dump().c_str(), p["controlled"].dump().c_str());
@@ -134,37 +132,26 @@ TEST(ClosedLoopBus, LockStepLoopEqualsInProcessLoopWithBusResolutionBitForBit) {
   STRCMP_EQUAL("ok", bus.plant.state.c_str());
   CHECK_EQUAL(samples, bus.controller.answered);
   CHECK_EQUAL(0u, bus.controller.sample_gaps + bus.controller.corrupt_frames);
+  return p;
+}
+
+TEST(ClosedLoopBus, LockStepLoopEqualsInProcessLoopWithBusResolutionBitForBit) {
+  ClosedLoopSetup setup = skyhook_setup();
+  setup.plant.params.dt_s = 1e-3;
+  check_bus_loop_equals_in_process_loop(setup);
 }
 
 // The plant node runs the scene's model as closed-loop does, end stops included: with stops at
 // +-2 mm the controlled seat hits them (7 times), and the loop over the bus still equals the
 // in-process loop bit for bit, the contact count included.
 TEST(ClosedLoopBus, LockStepLoopWithEndStopsEqualsInProcessLoopBitForBit) {
-  test::TempDir dir;
-  const std::string input = lorry(dir);
   ClosedLoopSetup setup = skyhook_setup();
   setup.plant.params.dt_s = 1e-3;
   setup.plant.effects |= kEndStops;
   setup.plant.params.integrator = Integrator::exact;  // the end-stop model's only one
   setup.plant.stops.travel_m = 0.002;
-
-  ClosedLoopRequest in_process;
-  in_process.input_path = input;
-  in_process.output_path = dir.file("in_process.csv");
-  in_process.setup = setup;
-  set_can_resolution(in_process.setup);
-  const ClosedLoopResult reference = closed_loop_file(in_process);
-
-  const BusRun bus = run_over_bus(setup, input, dir.file("bus.csv"), {});
-  const std::string expected = test::read_text(in_process.output_path);
-  CHECK_TRUE(expected.size() > 1000);
-  CHECK_TRUE(expected == test::read_text(dir.file("bus.csv")));
-  const nlohmann::json r = nlohmann::json::parse(reference.json),
-                       p = nlohmann::json::parse(bus.plant.json);
-  STRCMP_EQUAL(r["controlled"].dump().c_str(), p["controlled"].dump().c_str());
-  CHECK_TRUE(p["controlled"]["end_stop_contacts"].get<int>() > 5);
-  CHECK_TRUE(r["controlled"]["force_rms"].get<double>() > 1.0);
-  STRCMP_EQUAL("ok", bus.plant.state.c_str());
+  const nlohmann::json plant = check_bus_loop_equals_in_process_loop(setup);
+  CHECK_TRUE(plant["controlled"]["end_stop_contacts"].get<int>() > 5);
 }
 
 TEST(ClosedLoopBus, WithoutBusResolutionTheInProcessLoopDiffers) {

@@ -38,22 +38,24 @@ def cli_error(cli, *args):
     return done.stderr.strip()
 
 
+def generated_lorry(cli, tmp_path_factory, name, rms, duration, seed):
+    """`stickslip generate --kind lorry` at dt = 1 ms into a fresh directory."""
+    path = tmp_path_factory.mktemp("recordings") / name
+    run_cli(cli, "generate", "--kind", "lorry", "--rms", rms, "--duration", duration, "--dt", 0.001,
+            "--seed", seed, "--output", path)
+    return path
+
+
 @pytest.fixture(scope="session")
 def lorry_csv(cli, tmp_path_factory):
     """20 s of the lorry recording at K ~ 1 for F_fk = 45 N: sticking, slipping and events."""
-    path = tmp_path_factory.mktemp("recordings") / "lorry.csv"
-    run_cli(cli, "generate", "--kind", "lorry", "--rms", 0.35, "--duration", 20, "--dt", 0.001,
-            "--seed", 1, "--output", path)
-    return path
+    return generated_lorry(cli, tmp_path_factory, "lorry.csv", 0.35, 20, 1)
 
 
 @pytest.fixture(scope="session")
 def hard_csv(cli, tmp_path_factory):
     """10 s of the lorry recording at RMS 4 m/s^2: the seat of the end-stop scene hits its stops."""
-    path = tmp_path_factory.mktemp("recordings") / "hard.csv"
-    run_cli(cli, "generate", "--kind", "lorry", "--rms", 4, "--duration", 10, "--dt", 0.001,
-            "--seed", 2, "--output", path)
-    return path
+    return generated_lorry(cli, tmp_path_factory, "hard.csv", 4, 10, 2)
 
 
 def cli_simulate(cli, input_path, out_dir, *flags):

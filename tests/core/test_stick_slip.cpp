@@ -319,11 +319,11 @@ TEST(StickSlip, SeveralEventsInOneLargeStepMatchAFineRun) {
 // times finer on the identical piecewise-linear input, whose budget cannot cut a coarse step's
 // events short (a sub-step holds a fraction of them). The coarse run in double locates exactly the
 // events the fine run counts, step by step, and no coarse run loses one (event_budget_exhausted()
-// stays 0): double, float and Q23.40. Stribeck, whose budget stays kMaxEventsPerStep (its slip
-// force changes with v_r), also stays within the bound on these inputs: measured, not proven.
-// Hostile inputs: a_u jumping every sample across a range that carries F_L past +-F_fs and back,
-// and an actuator force that jumps at samples (so that break-aways at a step's start go against
-// F_L's motion), at steps up to the acceptance limit.
+// stays 0): double, float and Q23.40, and the held signum law in double and float. Stribeck, whose
+// budget stays kMaxEventsPerStep (its slip force changes with v_r), also stays within the bound on
+// these inputs: measured, not proven. Hostile inputs: a_u jumping every sample across a range that
+// carries F_L past +-F_fs and back, and an actuator force that jumps at samples (so that
+// break-aways at a step's start go against F_L's motion), at steps up to the acceptance limit.
 TEST(StickSlip, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
   constexpr int kFine = 32;
   int most_events = 0, most_events_stribeck = 0;
@@ -339,11 +339,18 @@ TEST(StickSlip, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
         Oscillator<double, CoulombStickSlip> seat, fine;
         Oscillator<float, CoulombStickSlip> seat_float;
         Oscillator<Fixed, CoulombStickSlip> seat_fixed;
+        Oscillator<double, SignumFriction> signum;  // held at rest to the step's end
+        Oscillator<float, SignumFriction> signum_float;
         Oscillator<double, StribeckStickSlip> stribeck;
         Oscillator<float, StribeckStickSlip> stribeck_float;
         CHECK(seat.configure(p).ok());
         CHECK(seat_float.configure(p).ok());
         CHECK(seat_fixed.configure(p).ok());
+        OscillatorParams signum_params = p;
+        signum_params.model = FrictionModel::signum;
+        signum_params.static_friction_n = p.kinetic_friction_n;
+        CHECK(signum.configure(signum_params).ok());
+        CHECK(signum_float.configure(signum_params).ok());
         OscillatorParams stribeck_params = p;
         stribeck_params.model = FrictionModel::stribeck;
         stribeck_params.static_friction_n = 1.3 * p.kinetic_friction_n;
@@ -364,6 +371,8 @@ TEST(StickSlip, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
           const auto out = seat.step(a_u, f_a);
           seat_float.step(static_cast<float>(a_u), static_cast<float>(f_a));
           seat_fixed.step(Fixed(a_u), Fixed(f_a));
+          signum.step(a_u, f_a);
+          signum_float.step(static_cast<float>(a_u), static_cast<float>(f_a));
           most_events_stribeck = std::max(
               {most_events_stribeck, static_cast<int>(stribeck.step(a_u, f_a).events),
                static_cast<int>(
@@ -383,6 +392,8 @@ TEST(StickSlip, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
         CHECK_EQUAL(0u, seat_float.event_budget_exhausted());
         CHECK_EQUAL(0u, seat_fixed.event_budget_exhausted());
         CHECK_EQUAL(0u, seat_fixed.saturated_steps());
+        CHECK_EQUAL(0u, signum.event_budget_exhausted());
+        CHECK_EQUAL(0u, signum_float.event_budget_exhausted());
         CHECK_EQUAL(0u, fine.event_budget_exhausted());
         CHECK_EQUAL(0u, stribeck.event_budget_exhausted());
         CHECK_EQUAL(0u, stribeck_float.event_budget_exhausted());

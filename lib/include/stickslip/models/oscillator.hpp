@@ -46,13 +46,15 @@ class Oscillator {
  public:
   using Scalar = T;
   using FrictionLaw = Law;
-  // Events located in one step at most. With a constant slip force, the exact solution's own
-  // bound for every step configure() accepts (step_common.hpp); Stribeck keeps the safety limit.
+  // Events located in one step at most. With a slip force constant over each piece of motion
+  // (stick-slip, and the held laws), the exact solution's own bound for every step configure()
+  // accepts (step_common.hpp); Stribeck, whose slip force follows v_r, keeps the safety limit.
   // At the budget the step finishes in its mode; a step where that lost an event (stuck to the
   // end with |F_L| beyond F_fs, or slipping to the end with v_r against its direction) is counted
   // in event_budget_exhausted(), which by the bound only rounding could reach.
-  static constexpr int kEventBudget =
-      Law::velocity_dependent ? kMaxEventsPerStep : kMaxEventsOfTheExactSolutionPerStep;
+  static constexpr int kEventBudget = Law::kind == LawKind::sticking && Law::velocity_dependent
+                                          ? kMaxEventsPerStep
+                                          : kMaxEventsOfTheExactSolutionPerStep;
   // Q7.24 runs in scene units only (models/scaled_oscillator.hpp), where m = 1 and dt = 1
   // exactly and the step is one tick (configure() requires them): its products by these are
   // exact and skipped (by_unit()), about 40 instructions each on the Cortex-M0+.

@@ -29,9 +29,10 @@ struct StepOutput {
 inline constexpr int kMaxEventsPerStep = 32;
 
 // The most events the exact solution of a law with a stuck state and a constant slip force
-// (Coulomb stick-slip, F_fs >= F_fk; the held signum law, F_fs = F_fk) has in one step, for every
-// step configure() accepts (omega0 dt <= pi/2), with a_u linear and the actuator force held over
-// the step: Oscillator's event budget for these laws, every scalar. F_L = f_a - m a_u - k x_r,
+// (Coulomb stick-slip, F_fs >= F_fk; the held signum law, F_fs = F_fk, which holds the load to
+// the step's end once at rest; the smoothed laws stop at their first event) has in one step, for
+// every step configure() accepts (omega0 dt <= pi/2), with a_u linear and the actuator force held
+// over the step: Oscillator's event budget for these laws, every scalar. F_L = f_a - m a_u - k x_r,
 // the force that holds the seat at rest, moves one way, s, all step (at any fixed x_r; linear in
 // time), and:
 //   - a slip that starts from rest inside the step in the direction d = s does not return to rest

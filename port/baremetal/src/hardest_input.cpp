@@ -7,10 +7,10 @@
 //   stickslip_node_hardest_input SECONDS OUTPUT.csv
 // The input is chosen sample by sample from the state of a double seat with the firmware's
 // parameters (port/baremetal/src/node.cpp), in a cycle of 4 s:
-//   - 1 s of full-range jumps;
-//   - 2 s at the threshold: a_u such that the limit force -(m a_u + k x_r) lands on +F_fs or
-//     -F_fs (alternating every 7 samples) plus an offset of random size and sign;
-//   - 1 s of swings: the limit force uniform within +-s F_fs about 0, s = 1.5, 3, 6 or 10 by
+//   - second 0, full-range jumps;
+//   - seconds 1 and 3, at the threshold: a_u such that the limit force -(m a_u + k x_r) lands on
+//     +F_fs or -F_fs (alternating every 7 samples) plus an offset of random size and sign;
+//   - second 2, swings: the limit force uniform within +-s F_fs about 0, s = 1.5, 3, 6 or 10 by
 //     cycle (the Cortex-M4F's slowest frames come from these: a break-away, a slip and a stick
 //     in one step, from any starting force).
 #include <cmath>

@@ -8,16 +8,15 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
-#include <type_traits>
 
 #include "bus_endpoint.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/output_file.hpp"
+#include "stickslip/host/run/simulation.hpp"
 #include "stickslip/host/signals/random.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
-#include "stickslip/models/end_stops.hpp"
 #include "stickslip/models/scene.hpp"
 
 namespace stickslip::host {
@@ -340,9 +339,7 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
             decide(n, await_answer(n, Clock::now() + (failing_safe ? failsafe_wait : timeout)));
       }
     }
-    using Model = std::remove_reference_t<decltype(seat)>;
-    if constexpr (std::is_same_v<Model, EndStopOscillator<double, typename Model::FrictionLaw>>)
-      contacts = seat.contacts();
+    contacts = end_stop_contacts(seat);
   });
   result.figures = measure_control(a_u, plant, trace.f_a_n, dt_s);
   result.figures.stick_probability = steps.stick_probability();

@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <optional>
 #include <system_error>
-#include <type_traits>
 
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/output_file.hpp"
@@ -214,9 +213,7 @@ ControlFigures run_closed_loop(const ClosedLoopSetup& setup, const std::vector<d
       steps.add_sample(a_u[n], sample.plant.a_x_m_per_s2);
       steps.add_step(sample.plant.stuck_fraction);
     }
-    using Model = std::remove_reference_t<decltype(seat)>;
-    if constexpr (std::is_same_v<Model, EndStopOscillator<double, typename Model::FrictionLaw>>)
-      contacts = seat.contacts();
+    contacts = end_stop_contacts(seat);
   });
   ControlFigures figures = measure_control(a_u, plant, trace.f_a_n, dt_s);
   figures.stick_probability = steps.stick_probability();

@@ -94,16 +94,30 @@ struct SimulationSummary {
   std::uint64_t saturated_steps = 0;  // fixed point: steps in which a value saturated
 };
 
+// Whether a model is the seat with end stops, and the contacts it has begun (0 for any other
+// model): the one test every runner of a scene's model makes.
+template <typename Model>
+inline constexpr bool kHasEndStops =
+    std::is_same_v<Model, EndStopOscillator<typename Model::Scalar, typename Model::FrictionLaw>>;
+template <typename Model>
+std::uint64_t end_stop_contacts(const Model& model) noexcept {
+  if constexpr (kHasEndStops<Model>) {
+    return model.contacts();
+  } else {
+    (void)model;
+    return 0;
+  }
+}
+
 // The summary's run figures from a run's statistics and its model's counters (any scalar type,
 // any model with rejected_inputs(), event_budget_exhausted(), state_resets()): the one place
 // simulate, simulate --scalar fixed and the ECU node fill them.
 template <typename Statistics, typename Model>
 void summarise_run(SimulationSummary& summary, const Statistics& statistics, const Model& model,
                    std::uint64_t events) {
-  if constexpr (std::is_same_v<Model, EndStopOscillator<typename Model::Scalar,
-                                                        typename Model::FrictionLaw>>) {
+  if constexpr (kHasEndStops<Model>) {
     summary.end_stops = true;
-    summary.end_stop_contacts = model.contacts();
+    summary.end_stop_contacts = end_stop_contacts(model);
   }
   summary.samples = statistics.samples();
   summary.steps = statistics.steps();

@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
 # Runs the firmware's ECU node on QEMU (Cortex-M0+ build, Q7.24 fixed point, on mps2-an385;
 # Cortex-M4F build, float, on mps2-an386) on the frames of a candump log, and compares the CAN
-# frames it sends (SeatMotion/SeatForce of docs/can/stickslip.dbc) byte for byte with the same
-# lib/ node built for the host; the float frames also with `stickslip replay`'s node over the
-# loopback bus (the `ecu` node) for the same log. The step records (the model's outputs, bit for
+# frames it sends (SeatMotion/SeatForce of docs/can/stickslip.dbc, and the M4F's SeatStats/
+# SeatScene) byte for byte with the same lib/ node built for the host; the float frames also with
+# `stickslip replay`'s node over the loopback bus (the `ecu` node, --outputs full) for the same
+# log. The step records (the model's outputs, bit for
 # bit) are compared too.
 #   tools/qemu-compare.sh STICKSLIP REPLAY_DIR CROSS_ROOT WORK_DIR [CSV]
 # STICKSLIP: the host `stickslip` command; REPLAY_DIR: holds stickslip_node_replay_fixed and
 # _float (host build); CROSS_ROOT: holds cortex-m0plus/ and cortex-m4f/ build trees; CSV: the
 # recording (default: 10 s of the lorry scene, generated). The candump log is
 # `stickslip replay --output-log` of the CSV: its SeatInput frames (E2E fields) are fed to the
-# firmware, its host node's SeatMotion/SeatForce frames are the reference for the float build. Prints, per target, the frames sent
+# firmware, its host node's output frames are the reference for the float build. Prints, per target, the frames sent
 # and compared, the mismatching frames, whether the records are identical, and the instructions
 # per received frame (mean, percentiles as the upper edge of their 100-instruction bucket, and
 # max, counted by QEMU with -icount shift=0; the index of the slowest frame, to trace it with
@@ -29,7 +30,7 @@ fi
 # The firmware's seat and node (port/baremetal/src/node.cpp), float: the M4F build's scalar.
 "$stickslip" replay --input "$csv" --bus loopback --output "$work/ecu.csv" \
   --output-log "$work/input.log" --model stick-slip --ffk 45 --ffs 45 --integrator exact \
-  --scalar float --outputs motion >"$work/ecu.json"
+  --scalar float --outputs full >"$work/ecu.json"
 
 # candump lines "(time) iface ID#DATA" -> 16-byte frame records (port/baremetal/src/replay.hpp):
 # every frame to feed the node, and the ecu node's own output frames to compare with.

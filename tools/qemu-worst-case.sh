@@ -9,18 +9,19 @@
 # for the Cortex-M0+ followed by "median_floor=M ratio_to_median_floor=ok|OVER" (worst <= 5 M),
 # then "bound=B within_bound=ok|OVER": the static bound of tools/elf-wcet.py on the same ELF and
 # interrupt, for a frame that follows no gap (max_gap=0; the set is replayed over the loopback
-# bus, so every frame brings one sample, which the check confirms: two frames sent per frame). A
+# bus, so every frame brings one sample, which the check confirms from the frames sent). A
 # measured frame above the bound means the analysis or its loop bounds are wrong.
 set -euo pipefail
 
 # Instructions per frame (QEMU -icount, the whole CAN receive interrupt: node and step) that the
-# hardest set's worst frame may take. These are regression limits, 5 % above what this code
+# hardest set's worst frame may take. These are regression limits, up to 5 % above what this code
 # measures on the set (docs/EMBEDDED.md, "Bound on the work of one step"), not the targets of
 # 4,000 (Cortex-M0+) and 600 (Cortex-M4F) instructions, which the step does not meet. QEMU's count
 # is deterministic, so the same ELFs measure the same figures on every machine.
 # Cortex-M0+ (Q7.24, one tick per step, the cubic search, at most 3 events): 11,560 measured.
 readonly kLimitM0plus=12140
-# Cortex-M4F (float, one tick per step for this seat, Taylor/Newton inside it): 5,440 measured.
+# Cortex-M4F (float, one tick per step for this seat, Taylor/Newton inside it, and the observer's
+# window): 5,520 measured (5,440 before the observer; the limit was set 5 % above that).
 readonly kLimitM4f=5710
 # The Cortex-M0+ target that is met: the worst frame at most 5 times the median, taken at the
 # lower edge of the median's 100-instruction bucket (the smallest the median can be).
@@ -62,7 +63,11 @@ while read -r preset _ _ rest; do
     --set max_gap=0 | python3 -c 'import json, sys; print(json.load(sys.stdin)["instructions_bound"])') ||
     bound=""
   within=ok
-  if [ -z "$bound" ] || [ -z "$max" ] || [ "${sent:-0}" -ne $((2 * ${frames:-0})) ] ||
+  # One sample per frame: SeatMotion and SeatForce per frame, and on the M4F (--outputs full)
+  # SeatStats and SeatScene with the first sample and every tenth after it.
+  expected=$((2 * ${frames:-0}))
+  [ "$preset" = cortex-m4f ] && expected=$((expected + 2 * ((${frames:-0} + 9) / 10)))
+  if [ -z "$bound" ] || [ -z "$max" ] || [ "${sent:-0}" -ne "$expected" ] ||
     [ "$max" -gt "$bound" ]; then
     within=OVER
     status=1

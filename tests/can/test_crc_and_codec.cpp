@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include "CppUTest/TestHarness.h"
 #include "stickslip/can/codec.hpp"
@@ -68,6 +69,73 @@ TEST(Codec, QuantiseRoundsToTheNearestCode) {
   // Halves round away from zero.
   CHECK_EQUAL(2.0 * lsb, physical<double>(a_u, quantise(a_u, 1.5 * lsb).word));
   CHECK_EQUAL(-2.0 * lsb, physical<double>(a_u, quantise(a_u, -1.5 * lsb).word));
+}
+
+namespace {
+
+// quantise() as it stood with the library's ldexp: the oracle for its products by 2^n.
+template <typename T>
+Quantised quantise_with_ldexp(const SignalSpec& signal, T value) {
+  if (value != value)
+    return {signal.is_signed ? signed_word(kSignedNotAvailable) : kUnsignedNotAvailable, false};
+  const T max_code = signal.is_signed ? T(kSignedMax) : T(kUnsignedMax);
+  const T upper = std::ldexp(max_code + T(0.5), -signal.fraction_bits);
+  const T lower = signal.is_signed ? -upper : -std::ldexp(T(0.5), -signal.fraction_bits);
+  if (value >= upper) return {signal.is_signed ? signed_word(kSignedMax) : kUnsignedMax, true};
+  if (value <= lower) return {signal.is_signed ? signed_word(-kSignedMax) : std::uint16_t{0}, true};
+  const T scaled = std::round(std::ldexp(value, signal.fraction_bits));
+  if (signal.is_signed) return {signed_word(static_cast<std::int16_t>(scaled)), false};
+  return {static_cast<std::uint16_t>(scaled), false};
+}
+
+// Values that probe every branch and rounding edge of a signal: each code's value, the halves
+// between codes and their neighbours one ulp either side, the range edges, tiny and subnormal
+// numbers, infinities and NaN.
+template <typename T>
+std::vector<T> probe_values(const SignalSpec& signal) {
+  std::vector<T> values;
+  const T lsb = std::ldexp(T(1), -signal.fraction_bits);
+  const int top = signal.is_signed ? kSignedMax : kUnsignedMax;
+  const T inf = std::numeric_limits<T>::infinity();
+  for (int code = signal.is_signed ? -top - 1 : -1; code <= top + 1;
+       code += code % 97 == 0 ? 1 : 13) {
+    for (const T at : {T(code), T(code) + T(0.5), T(code) - T(0.5)}) {
+      const T v = at * lsb;
+      values.push_back(v);
+      values.push_back(std::nextafter(v, inf));
+      values.push_back(std::nextafter(v, -inf));
+    }
+  }
+  for (const T v : {std::numeric_limits<T>::denorm_min(), std::numeric_limits<T>::min(), T(1e-30),
+                    std::numeric_limits<T>::max(), inf, std::numeric_limits<T>::quiet_NaN()}) {
+    values.push_back(v);
+    values.push_back(-v);
+  }
+  return values;
+}
+
+template <typename T>
+long mismatches_against_ldexp() {
+  long mismatched = 0, compared = 0;
+  for (const MessageSpec* message : kMessages) {
+    for (const SignalSpec& signal : message->signals) {
+      for (const T value : probe_values<T>(signal)) {
+        const Quantised a = quantise(signal, value);
+        const Quantised b = quantise_with_ldexp(signal, value);
+        ++compared;
+        if (a.word != b.word || a.saturated != b.saturated) ++mismatched;
+      }
+    }
+  }
+  CHECK(compared > 100000);
+  return mismatched;
+}
+
+}  // namespace
+
+TEST(Codec, QuantiseGivesLdexpsWordsBitForBitInDoubleAndFloat) {
+  LONGS_EQUAL(0, mismatches_against_ldexp<double>());
+  LONGS_EQUAL(0, mismatches_against_ldexp<float>());
 }
 
 TEST(Codec, OutOfRangeValuesSaturateAndSaySo) {

@@ -147,7 +147,7 @@ TEST(LibEcuNode, AChangedSeatIsCaughtByTheFrameComparison) {
 }
 
 TEST(LibEcuNode, FullSetSendsSeatStatsAndSceneWithNotAvailableStatisticsAndTheFaultCount) {
-  // lib/'s seats keep no running statistics: SeatStats and SeatScene say not available; the
+  // OscillatorSeat keeps no running statistics: SeatStats and SeatScene say not available; the
   // fault count in SeatScene is the checker's.
   can::EcuNode<can::OscillatorSeat<double, CoulombStickSlip>> node;
   configure_node(node, can::OutputSet::full);
@@ -162,6 +162,66 @@ TEST(LibEcuNode, FullSetSendsSeatStatsAndSceneWithNotAvailableStatisticsAndTheFa
   const can::Payload p = can::decode_payload(scene.data);
   CHECK(can::not_available(can::kSeatScene.signals[0], p.words[0]));
   LONGS_EQUAL(node.counters().faults(), p.words[1]);
+}
+
+namespace {
+
+// The observer seat (the Cortex-M4F firmware's in float) against the host `ecu` node with the full
+// output set, over 12 s: window blocks complete every second and the window fills at 10 s.
+template <typename T>
+void observer_seat_sends_the_host_nodes_full_set(host::ScalarType scalar) {
+  const std::uint64_t samples = 12000;
+  const std::vector<can::Frame> stream = faulty_stream(samples);
+  host::EcuNodeConfig config = host_float_node(firmware_seat());
+  config.scalar = scalar;
+  config.outputs = can::OutputSet::full;
+  host::EcuNode host_node(config);
+  std::vector<can::Frame> host_frames;
+  for (const can::Frame& frame : stream) host_node.on_frame(frame, 0, host_frames);
+
+  can::EcuNode<can::ObserverSeat<T, CoulombStickSlip>> node;
+  CHECK(node.seat().configure(can::seat_observer_params(firmware_seat())).ok());
+  can::EcuNodeParams params;
+  params.outputs = can::OutputSet::full;
+  params.checker.max_gap = 10;
+  CHECK(node.configure(params) == Status::ok);
+  Collect lib;
+  for (const can::Frame& frame : stream) node.on_frame(frame, 0, lib);
+
+  // Per sample SeatMotion and SeatForce, every 10th SeatStats and SeatScene.
+  LONGS_EQUAL(2 * samples + 2 * (samples / 10), lib.frames.size());
+  LONGS_EQUAL(host_frames.size(), lib.frames.size());
+  LONGS_EQUAL(0, mismatched_frames(lib.frames, host_frames));
+  // The statistics compared are figures: not available until the first block (1 s) completes,
+  // then T_ax and p that move with every block, and K.
+  int not_available = 0;
+  std::vector<std::uint16_t> t_ax_words;
+  for (const can::Frame& frame : lib.frames) {
+    if (frame.id != can::kSeatStats.id) continue;
+    const can::Payload p = can::decode_payload(frame.data);
+    if (can::not_available(can::kSeatStats.signals[0], p.words[0])) {
+      ++not_available;
+    } else if (t_ax_words.empty() || t_ax_words.back() != p.words[0]) {
+      t_ax_words.push_back(p.words[0]);
+    }
+  }
+  LONGS_EQUAL(100, not_available);  // samples 0, 10, ..., 990
+  CHECK(t_ax_words.size() >= 10);
+  const can::Frame& last_scene = lib.frames[lib.frames.size() - 19];  // of sample 11990
+  LONGS_EQUAL(can::kSeatScene.id, last_scene.id);
+  const can::Payload scene = can::decode_payload(last_scene.data);
+  CHECK_FALSE(can::not_available(can::kSeatScene.signals[0], scene.words[0]));
+  CHECK(node.seat().observer().window().samples == 10000);
+}
+
+}  // namespace
+
+TEST(LibEcuNode, FloatObserverSeatSendsTheHostEcuNodesFullSetByteForByteThroughFaults) {
+  observer_seat_sends_the_host_nodes_full_set<float>(host::ScalarType::float32);
+}
+
+TEST(LibEcuNode, DoubleObserverSeatSendsTheHostEcuNodesFullSetByteForByteThroughFaults) {
+  observer_seat_sends_the_host_nodes_full_set<double>(host::ScalarType::float64);
 }
 
 TEST(LibEcuNode, FixedPointSeatsAxWordsAreWithinOneOfTheFloatSeats) {

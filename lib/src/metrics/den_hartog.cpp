@@ -1,16 +1,10 @@
 #include "stickslip/metrics/den_hartog.hpp"
 
-#include <cmath>
-#include <limits>
-
 namespace stickslip {
 
 double den_hartog_factor(double kinetic_friction_n, double mass_kg,
                          double rms_u_m_per_s2) noexcept {
-  if (kinetic_friction_n == 0.0) return 0.0;
-  if (!(rms_u_m_per_s2 > 0.0) || !(mass_kg > 0.0)) return std::numeric_limits<double>::infinity();
-  const double pi = 3.14159265358979323846;
-  return 4.0 * kinetic_friction_n / (pi * std::sqrt(2.0) * mass_kg * rms_u_m_per_s2);
+  return den_hartog_factor_in(kinetic_friction_n, mass_kg, rms_u_m_per_s2);
 }
 
 FrictionRegime friction_regime(double den_hartog_k) noexcept {

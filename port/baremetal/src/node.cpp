@@ -16,12 +16,18 @@ using Seat = stickslip::can::ScaledSeat<Scalar, stickslip::CoulombStickSlip>;
 const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const Seat& s) {
   return s.model().oscillator();
 }
+// No running statistics: the observer's window sums would need 64-bit sums in scene units and
+// its figures software double; the node publishes SeatMotion and SeatForce only.
+constexpr stickslip::can::OutputSet kOutputs = stickslip::can::OutputSet::motion;
 #else
 using Scalar = float;  // Cortex-M4F: single-precision FPU
-using Seat = stickslip::can::OscillatorSeat<Scalar, stickslip::CoulombStickSlip>;
+// The observer, as the host node runs it: its estimate is the oscillator's step, and its window
+// gives SeatStats and SeatScene (T_ax, p, K; figured in double, in software, once per block).
+using Seat = stickslip::can::ObserverSeat<Scalar, stickslip::CoulombStickSlip>;
 const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const Seat& s) {
   return s.oscillator();
 }
+constexpr stickslip::can::OutputSet kOutputs = stickslip::can::OutputSet::full;
 #endif
 
 Seat seat;  // the model's coefficients and state, statically allocated (no heap)
@@ -43,7 +49,7 @@ struct FirmwareSeat {
     stickslip_seat_step(seat.input(a_u_word));
     return seat.last_words();
   }
-  stickslip::can::StatsWords statistics() const { return {}; }
+  stickslip::can::StatsWords statistics() const { return seat.statistics(); }
 };
 
 stickslip::can::EcuNode<FirmwareSeat> node;  // the receive checker, statically allocated
@@ -66,10 +72,15 @@ extern "C" int stickslip_node_start() {
   // seat's stroke.
   params.input_range_m_per_s2 = 32.768;
   params.displacement_range_m = 0.1;
+#if defined(STICKSLIP_FIRMWARE_FIXED)
   const stickslip::ConfigResult result = seat.configure(params);
+#else
+  const stickslip::ConfigResult result =
+      seat.configure(stickslip::can::seat_observer_params(params));
+#endif
   if (!result.ok()) return static_cast<int>(result.status);
   stickslip::can::EcuNodeParams node_params;
-  node_params.outputs = stickslip::can::OutputSet::motion;
+  node_params.outputs = kOutputs;
   return static_cast<int>(node.configure(node_params));
 }
 

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "stickslip/can/codec.hpp"
+#include "stickslip/can/node_seats.hpp"
 #include "stickslip/host/run/fixed_dispatch.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
@@ -80,12 +81,8 @@ class SeatModelFor final : public SeatModel {
  public:
   SeatModelFor(const SimulationSetup& setup)
       : x0_(static_cast<T>(setup.x0_m)), v0_(static_cast<T>(setup.v0_m_per_s)) {
-    ObserverParams params;
-    params.model = setup.params;
+    ObserverParams params = can::seat_observer_params(setup.params);
     params.stops = setup.stops;
-    // A 10 s window (or the whole stream if its blocks would be under one sample).
-    params.window_s = std::fmax(10.0, 10.0 * setup.params.dt_s);
-    params.exponential_time_s = std::fmax(10.0, setup.params.dt_s);
     const ConfigResult configured = observer_.configure(params);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
     statistics_.reset();
@@ -136,7 +133,7 @@ class SeatModelFor final : public SeatModel {
   }
 
   // The model, its windows, regime and ride comfort.
-  Observer<T, Law, 10, true, kEndStops> observer_;
+  Observer<T, Law, can::kSeatWindowBlocks, true, kEndStops> observer_;
   RunningStatistics<T> statistics_;
   std::uint64_t events_ = 0;
   T x0_, v0_;
@@ -300,20 +297,10 @@ can::SeatWords HostSeat::step(std::uint16_t a_u_word) {
 }
 
 can::StatsWords HostSeat::statistics() const {
-  // The observer's window (10 s) as of its last completed block; before the first block
-  // completes nothing has been observed: not available (all ones), as J1939 does.
+  // The observer's window (10 s) as of its last completed block.
   const ObserverSummary running = model->observed();
-  const bool ready = running.window_s > 0.0;
-  const double not_available = std::numeric_limits<double>::quiet_NaN();
-  const double k = running.den_hartog_k;
-  can::StatsWords words;
-  words.transmissibility =
-      can::quantise(can::kSeatStats.signals[0], ready ? running.transmissibility : not_available);
-  words.stick_probability =
-      can::quantise(can::kSeatStats.signals[1], ready ? running.stick_probability : not_available);
-  words.den_hartog_k =
-      can::quantise(can::kSeatScene.signals[0], ready && std::isfinite(k) ? k : not_available);
-  return words;
+  return can::stats_words(running.window_s > 0.0, running.transmissibility,
+                          running.stick_probability, running.den_hartog_k);
 }
 
 struct EcuNode::Sink {

@@ -158,6 +158,13 @@ inline std::int16_t word_as_signed(std::uint16_t word) noexcept {
                         : static_cast<std::int16_t>(static_cast<int>(word) - 65536);
 }
 
+// 2^n, exactly, for |n| <= 31 (a signal's fraction_bits): a product by it is ldexp(x, n) bit for
+// bit wherever no bit falls below the subnormal range, without the library call.
+template <typename T>
+T power_of_two(int n) noexcept {
+  return n >= 0 ? T(1u << n) : T(1) / T(1u << -n);
+}
+
 // Physical value -> raw word; see "Scaling and overflow" above. T is float or double.
 template <typename T>
 Quantised quantise(const SignalSpec& signal, T value) noexcept {
@@ -167,15 +174,18 @@ Quantised quantise(const SignalSpec& signal, T value) noexcept {
   // Range checks before scaling, so that no value (infinity, 1e300) can overflow: anything that
   // would round beyond the largest code saturates.
   const T max_code = signal.is_signed ? T(kSignedMax) : T(kUnsignedMax);
-  const T upper = std::ldexp(max_code + T(0.5), -signal.fraction_bits);
-  const T lower = signal.is_signed ? -upper : -std::ldexp(T(0.5), -signal.fraction_bits);
+  const T scale = power_of_two<T>(signal.fraction_bits);
+  const T upper = (max_code + T(0.5)) / scale;  // exact: a power of two
+  const T lower = signal.is_signed ? -upper : -T(0.5) / scale;
   if (value >= upper) {
     return {signal.is_signed ? signed_word(kSignedMax) : kUnsignedMax, true};
   }
   if (value <= lower) {
     return {signal.is_signed ? signed_word(-kSignedMax) : std::uint16_t{0}, true};
   }
-  const T scaled = std::round(std::ldexp(value, signal.fraction_bits));  // exact scaling
+  // Exact, as ldexp: |value| < `upper`, so the product is below 2^16, and a product by 2^n with
+  // n >= 0 drops no bit.
+  const T scaled = std::round(value * scale);
   if (signal.is_signed) return {signed_word(static_cast<std::int16_t>(scaled)), false};
   return {static_cast<std::uint16_t>(scaled), false};
 }
@@ -190,7 +200,7 @@ template <typename T>
 T physical(const SignalSpec& signal, std::uint16_t word) noexcept {
   if (not_available(signal, word)) return T(NAN);
   const T raw = signal.is_signed ? T(word_as_signed(word)) : T(word);
-  return std::ldexp(raw, -signal.fraction_bits);
+  return raw / power_of_two<T>(signal.fraction_bits);  // exact
 }
 
 // Writes the 8 bytes of `message` (CRC included).

@@ -28,7 +28,7 @@ namespace stickslip::can {
 //            cycle;
 //   reduced: SeatMotion and SeatStats only, for 250 and 500 kbit/s buses;
 //   motion:  SeatMotion and SeatForce only, for a node without running statistics (the
-//            firmware: its seat has no observer windows to report).
+//            Cortex-M0+ firmware: its fixed-point seat has no observer windows to report).
 enum class OutputSet : std::uint8_t { full, reduced, motion };
 
 // A seat's outputs for one sample as the words SeatMotion and SeatForce carry.

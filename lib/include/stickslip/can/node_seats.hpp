@@ -1,15 +1,20 @@
-// The seats lib/ offers the ECU node (ecu_node.hpp): the oscillator behind the node's word
-// interface. a_u arrives as the SeatInput word (2^-10 m/s^2 per bit); the outputs leave as the
-// SeatMotion/SeatForce words. Neither keeps running statistics (StatsWords says not available):
-// the host node adds the observer's windows, the firmware publishes OutputSet::motion.
+// The seats lib/ offers the ECU node (ecu_node.hpp): a model behind the node's word interface.
+// a_u arrives as the SeatInput word (2^-10 m/s^2 per bit); the outputs leave as the
+// SeatMotion/SeatForce words, the window figures as the SeatStats/SeatScene words.
 //   OscillatorSeat<T, Law>: float or double; decode and encode are exact (power-of-two scales),
-//                           so the words equal the host's double path for the same outputs.
+//                           so the words equal the host's double path for the same outputs. No
+//                           running statistics (StatsWords says not available).
+//   ObserverSeat<T, Law>:   float or double: the observer (observer/observer.hpp), whose estimate
+//                           is the oscillator's step bit for bit, and its block window's T_ax, p
+//                           and K, as the host node publishes them (stats_words()).
 //   ScaledSeat<T, Law>:     a 32-bit fixed-point scalar in scene units (models/
 //                           scaled_oscillator.hpp, the Cortex-M0+ build): one integer product and
-//                           a rounding shift per signal (CountScale), no float at all.
+//                           a rounding shift per signal (CountScale), no float at all; no running
+//                           statistics.
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 
 #include "stickslip/can/codec.hpp"
@@ -19,8 +24,62 @@
 #include "stickslip/core/status.hpp"
 #include "stickslip/models/oscillator.hpp"
 #include "stickslip/models/scaled_oscillator.hpp"
+#include "stickslip/observer/observer.hpp"
 
 namespace stickslip::can {
+
+// The window figures T_ax, p and K as the SeatStats/SeatScene words: not available (all ones, as
+// J1939 does) until they are `ready` (a first block has completed), and K also while it is not
+// finite. R: float or double; a float figure gives the word its value in double gives (the
+// scaling is a power of two, exact in both).
+template <typename R>
+StatsWords stats_words(bool ready, R transmissibility, R stick_probability, R k) noexcept {
+  const R not_available = R(NAN);
+  StatsWords words;
+  words.transmissibility =
+      quantise(kSeatStats.signals[0], ready ? transmissibility : not_available);
+  words.stick_probability =
+      quantise(kSeatStats.signals[1], ready ? stick_probability : not_available);
+  words.den_hartog_k =
+      quantise(kSeatScene.signals[0], ready && std::isfinite(k) ? k : not_available);
+  return words;
+}
+
+namespace seat_detail {
+
+// Exact: a_u is the word times 2^-10 (a power of two: a multiply, no ldexp call).
+template <typename T>
+T input(std::uint16_t word) noexcept {
+  return T(word_as_signed(word)) * (T(1) / T(1u << kSeatInput.signals[0].fraction_bits));
+}
+
+// quantise() (codec.hpp) for a signed signal, with the scale a compile-time power of two: the
+// same word and saturation flag (the scaling is exact either way), without its ldexp calls.
+static_assert(kSeatMotion.signals[0].is_signed && kSeatMotion.signals[1].is_signed &&
+                  kSeatForce.signals[0].is_signed && kSeatForce.signals[1].is_signed,
+              "word() encodes signed signals");
+template <int kFractionBits, typename T>
+Quantised word(T value) noexcept {
+  if (value != value) return {signed_word(kSignedNotAvailable), false};
+  const T scaled = value * T(1u << kFractionBits);  // exact
+  const T limit = T(kSignedMax) + T(0.5);
+  if (scaled >= limit) return {signed_word(kSignedMax), true};
+  if (scaled <= -limit) return {signed_word(-kSignedMax), true};
+  return {signed_word(static_cast<std::int16_t>(std::round(scaled))), false};
+}
+
+template <typename T>
+SeatWords words(const StepOutput<T>& out) noexcept {
+  SeatWords w;
+  w.a_x = word<kSeatMotion.signals[0].fraction_bits>(out.a_x_m_per_s2);
+  w.x_r = word<kSeatMotion.signals[1].fraction_bits>(out.x_r_m);
+  w.v_r = word<kSeatForce.signals[0].fraction_bits>(out.v_r_m_per_s);
+  w.f_f = word<kSeatForce.signals[1].fraction_bits>(out.friction_n);
+  w.stuck = out.stuck;
+  return w;
+}
+
+}  // namespace seat_detail
 
 template <typename T, typename Law>
 class OscillatorSeat {
@@ -38,11 +97,11 @@ class OscillatorSeat {
   SeatWords start(std::uint16_t a_u_word) noexcept {
     oscillator_.reset(x0_, v0_, input(a_u_word));
     last_ = oscillator_.current();
-    return words(last_);
+    return last_words();
   }
   SeatWords step(std::uint16_t a_u_word) noexcept {
     advance(input(a_u_word));
-    return words(last_);
+    return last_words();
   }
   // The parts of step(), for a caller that puts the model's step in a function of its own (the
   // firmware: its step budget is measured from there): the input, the step, the words.
@@ -51,42 +110,84 @@ class OscillatorSeat {
   }
   StatsWords statistics() const noexcept { return {}; }
 
-  // Exact: a_u is the word times 2^-10 (a power of two: a multiply, no ldexp call).
-  static T input(std::uint16_t word) noexcept {
-    return T(word_as_signed(word)) * (T(1) / T(1u << kSeatInput.signals[0].fraction_bits));
-  }
-  SeatWords last_words() const noexcept { return words(last_); }
+  static T input(std::uint16_t word) noexcept { return seat_detail::input<T>(word); }
+  SeatWords last_words() const noexcept { return seat_detail::words(last_); }
 
   const StepOutput<T>& last() const noexcept { return last_; }
   const Oscillator<T, Law>& oscillator() const noexcept { return oscillator_; }
 
  private:
-  // quantise() (codec.hpp) for a signed signal, with the scale a compile-time power of two: the
-  // same word and saturation flag (the scaling is exact either way), without its ldexp calls.
-  static_assert(kSeatMotion.signals[0].is_signed && kSeatMotion.signals[1].is_signed &&
-                    kSeatForce.signals[0].is_signed && kSeatForce.signals[1].is_signed,
-                "word() encodes signed signals");
-  template <int kFractionBits>
-  static Quantised word(T value) noexcept {
-    if (value != value) return {signed_word(kSignedNotAvailable), false};
-    const T scaled = value * T(1u << kFractionBits);  // exact
-    const T limit = T(kSignedMax) + T(0.5);
-    if (scaled >= limit) return {signed_word(kSignedMax), true};
-    if (scaled <= -limit) return {signed_word(-kSignedMax), true};
-    return {signed_word(static_cast<std::int16_t>(std::round(scaled))), false};
-  }
-  static SeatWords words(const StepOutput<T>& out) noexcept {
-    SeatWords w;
-    w.a_x = word<kSeatMotion.signals[0].fraction_bits>(out.a_x_m_per_s2);
-    w.x_r = word<kSeatMotion.signals[1].fraction_bits>(out.x_r_m);
-    w.v_r = word<kSeatForce.signals[0].fraction_bits>(out.v_r_m_per_s);
-    w.f_f = word<kSeatForce.signals[1].fraction_bits>(out.friction_n);
-    w.stuck = out.stuck;
-    return w;
-  }
-
   Oscillator<T, Law> oscillator_;
   StepOutput<T> last_{};
+  T x0_ = T(0), v0_ = T(0);
+};
+
+// The node's observer window: ten blocks of a tenth of ObserverParams::window_s each.
+inline constexpr std::size_t kSeatWindowBlocks = 10;
+
+// The observer a node runs for the seat `model`: a 10 s window (or ten samples, if dt_s is over
+// a second) and a 10 s exponential window.
+inline ObserverParams seat_observer_params(const OscillatorParams& model) noexcept {
+  ObserverParams params;
+  params.model = model;
+  params.window_s = std::fmax(10.0, 10.0 * model.dt_s);
+  params.exponential_time_s = std::fmax(10.0, model.dt_s);
+  return params;
+}
+
+template <typename T, typename Law>
+class ObserverSeat {
+ public:
+  using Scalar = T;
+  // Ride comfort is not published on the bus: the seat's observer has no comfort filters (the
+  // window figures do not depend on them).
+  using Model = Observer<T, Law, kSeatWindowBlocks, false>;
+
+  // The observer's parameters (model.dt_s = the sample interval of the stream) and where the
+  // seat starts.
+  ConfigResult configure(const ObserverParams& params, T x0_m = T(0),
+                         T v0_m_per_s = T(0)) noexcept {
+    x0_ = x0_m;
+    v0_ = v0_m_per_s;
+    return observer_.configure(params);
+  }
+
+  SeatWords start(std::uint16_t a_u_word) noexcept {
+    observer_.reset(input(a_u_word), x0_, v0_);
+    note_window();
+    return last_words();
+  }
+  SeatWords step(std::uint16_t a_u_word) noexcept {
+    advance(input(a_u_word));
+    return last_words();
+  }
+  // The parts of step(), for a caller that puts the seat's step in a function of its own (the
+  // firmware): the input, the observer's update, the words. The statistics words are quantised
+  // here when a block completes (once per block, not per call of statistics()).
+  STICKSLIP_INLINE_STEP void advance(T a_u) noexcept {
+    observer_.update(a_u);
+    if (observer_.completed_blocks() != blocks_) note_window();
+  }
+  StatsWords statistics() const noexcept { return stats_; }
+
+  static T input(std::uint16_t word) noexcept { return seat_detail::input<T>(word); }
+  SeatWords last_words() const noexcept { return seat_detail::words(last()); }
+
+  const StepOutput<T>& last() const noexcept { return observer_.estimate().model; }
+  const Model& observer() const noexcept { return observer_; }
+  const Oscillator<T, Law>& oscillator() const noexcept { return observer_.model(); }
+
+ private:
+  void note_window() noexcept {
+    blocks_ = observer_.completed_blocks();
+    const auto& window = observer_.window();
+    stats_ = stats_words(window.samples > 0, window.transmissibility, window.stick_probability,
+                         window.den_hartog_k);
+  }
+
+  Model observer_;
+  StatsWords stats_;
+  std::uint64_t blocks_ = 0;
   T x0_ = T(0), v0_ = T(0);
 };
 

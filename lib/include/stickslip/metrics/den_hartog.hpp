@@ -3,6 +3,9 @@
 // half the time and only the stick-slip model is right.
 #pragma once
 
+#include <cmath>
+#include <limits>
+
 namespace stickslip {
 
 inline constexpr double kSignumSufficesBelowK = 0.4;
@@ -10,7 +13,16 @@ inline constexpr double kStickSlipRequiredAboveK = 0.75;
 
 enum class FrictionRegime : unsigned char { signum_suffices, transition, stick_slip_required };
 
-// K; +infinity for a0u = 0 with friction, 0 without friction.
+// K in R (float or double); +infinity for a0u = 0 with friction, 0 without friction.
+template <typename R>
+R den_hartog_factor_in(R kinetic_friction_n, R mass_kg, R rms_u_m_per_s2) noexcept {
+  if (kinetic_friction_n == R(0)) return R(0);
+  if (!(rms_u_m_per_s2 > R(0)) || !(mass_kg > R(0))) return std::numeric_limits<R>::infinity();
+  const R pi = R(3.14159265358979323846);
+  return R(4) * kinetic_friction_n / (pi * std::sqrt(R(2)) * mass_kg * rms_u_m_per_s2);
+}
+
+// K in double.
 double den_hartog_factor(double kinetic_friction_n, double mass_kg, double rms_u_m_per_s2) noexcept;
 
 FrictionRegime friction_regime(double den_hartog_k) noexcept;

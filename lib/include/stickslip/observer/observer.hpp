@@ -6,8 +6,9 @@
 // a model-mismatch flag.
 //
 // update() per sample: the model's step, a few multiply-adds, the comfort filters (kComfort), and
-// once per completed window block (not per sample) the window figures, K and the regime (one
-// square root and a few divisions). No heap; every capacity is a template parameter.
+// once per completed window block (not per sample) the window figures, K and the regime (a few
+// square roots and divisions, in the scalar itself for float and double: a float observer does
+// no double arithmetic). No heap; every capacity is a template parameter.
 //
 // kEndStops: the model is the seat with end stops (EndStopOscillator, models/end_stops.hpp;
 // ObserverParams::stops, laws NoFriction and CoulombStickSlip, double or float), whose step is
@@ -67,12 +68,25 @@ struct ObserverSummary {
   bool model_mismatch = false;
 };
 
+// The block window's figures as of its last completed block, in the observer's figure type R.
+template <typename R>
+struct WindowFigures {
+  R rms_u_m_per_s2{}, rms_x_m_per_s2{}, transmissibility{}, stick_probability{}, den_hartog_k{};
+  R residual_rms_m_per_s2{};  // over the window's measured samples
+  std::uint32_t samples = 0;  // the samples the figures cover (0: no block completed yet)
+  std::uint32_t stick_events = 0, slip_events = 0;
+};
+
 template <typename T, typename Law, std::size_t kWindowBlocks = 10, bool kComfort = true,
           bool kEndStops = false>
 class Observer {
   using S = ScalarTraits<T>;
 
  public:
+  // The window figures' type: the scalar itself where it is floating point (float on an FPU
+  // without double: no software double once per block), double for fixed point.
+  using Figure = std::conditional_t<std::is_floating_point_v<T>, T, double>;
+
   using Model = std::conditional_t<kEndStops, EndStopOscillator<T, Law>, Oscillator<T, Law>>;
 
   ConfigResult configure(const ObserverParams& params) noexcept {
@@ -117,6 +131,10 @@ class Observer {
     exponential_.configure(S::from_double(-std::expm1(-dt / params.exponential_time_s)));
     regime_.configure(params.regime_hysteresis_k);
     params_ = params;
+    kinetic_friction_ = Figure(params.model.kinetic_friction_n);
+    mass_ = Figure(params.model.mass_kg);
+    mismatch_set_ = Figure(params.mismatch_rms_m_per_s2);
+    mismatch_clear_ = Figure(0.8 * params.mismatch_rms_m_per_s2);
     mass_kg_ = S::from_double(params.model.mass_kg);
     stiffness_ = S::from_double(params.model.stiffness_n_per_m);
     damping_ = S::from_double(params.model.damping_ns_per_m);
@@ -138,7 +156,8 @@ class Observer {
     if constexpr (kComfort) comfort_.add_sample(a_u0, estimate_.model.a_x_m_per_s2);
     mismatch_ = false;
     samples_ = 0;
-    summary_ = ObserverSummary{};
+    completed_blocks_ = 0;
+    figures_ = WindowFigures<Figure>{};
   }
 
   // One floor sample (m/s^2).
@@ -151,7 +170,22 @@ class Observer {
   const ObserverEstimate<T>& estimate() const noexcept { return estimate_; }
   // The figures as of the last completed block, with the exponential window's as of now.
   ObserverSummary summary() const noexcept {
-    ObserverSummary out = summary_;
+    const WindowFigures<Figure>& f = figures_;
+    ObserverSummary out;
+    out.rms_u_m_per_s2 = double(f.rms_u_m_per_s2);
+    out.rms_x_m_per_s2 = double(f.rms_x_m_per_s2);
+    out.transmissibility = double(f.transmissibility);
+    out.stick_probability = double(f.stick_probability);
+    out.den_hartog_k = double(f.den_hartog_k);
+    out.stick_events = f.stick_events;
+    out.slip_events = f.slip_events;
+    out.window_s = double(f.samples) * params_.model.dt_s;
+    out.window_full = window_.full();
+    out.regime = regime_.regime();
+    out.regime_known = regime_.known();
+    out.regime_changes = regime_.changes();
+    out.residual_rms_m_per_s2 = double(f.residual_rms_m_per_s2);
+    out.model_mismatch = mismatch_;
     const double u = std::sqrt(S::to_double(exponential_.mean_u_sq()));
     const double x = std::sqrt(S::to_double(exponential_.mean_x_sq()));
     out.exp_rms_u_m_per_s2 = u;
@@ -162,6 +196,11 @@ class Observer {
         den_hartog_factor(params_.model.kinetic_friction_n, params_.model.mass_kg, u);
     return out;
   }
+  // The block window's figures as of the last completed block, as computed (summary() has them in
+  // double with the exponential window's).
+  const WindowFigures<Figure>& window() const noexcept { return figures_; }
+  // Blocks completed since reset(): the window figures change exactly when this does.
+  std::uint64_t completed_blocks() const noexcept { return completed_blocks_; }
   FrictionRegime regime() const noexcept { return regime_.regime(); }
   bool model_mismatch() const noexcept { return mismatch_; }
   std::uint64_t samples() const noexcept { return samples_; }
@@ -194,33 +233,37 @@ class Observer {
     return estimate_;
   }
 
-  // Once per completed block.
+  // Once per completed block, in Figure.
   void refresh() noexcept {
+    ++completed_blocks_;
     const WindowSums<T>& w = window_.sums();
-    ObserverSummary& s = summary_;
-    const double samples = double(w.samples);
-    s.rms_u_m_per_s2 = samples > 0.0 ? std::sqrt(S::to_double(w.u_sq) / samples) : 0.0;
-    s.rms_x_m_per_s2 = samples > 0.0 ? std::sqrt(S::to_double(w.x_sq) / samples) : 0.0;
-    s.transmissibility = s.rms_u_m_per_s2 > 0.0 ? s.rms_x_m_per_s2 / s.rms_u_m_per_s2 : 0.0;
-    s.stick_probability = w.steps > 0 ? S::to_double(w.stuck) / double(w.steps) : 0.0;
-    s.den_hartog_k = den_hartog_factor(params_.model.kinetic_friction_n, params_.model.mass_kg,
-                                       s.rms_u_m_per_s2);
-    s.stick_events = w.stick_events;
-    s.slip_events = w.slip_events;
-    s.window_s = samples * params_.model.dt_s;
-    s.window_full = window_.full();
+    WindowFigures<Figure>& f = figures_;
+    const Figure samples = Figure(w.samples);
+    f.rms_u_m_per_s2 = samples > Figure(0) ? std::sqrt(figure(w.u_sq) / samples) : Figure(0);
+    f.rms_x_m_per_s2 = samples > Figure(0) ? std::sqrt(figure(w.x_sq) / samples) : Figure(0);
+    f.transmissibility =
+        f.rms_u_m_per_s2 > Figure(0) ? f.rms_x_m_per_s2 / f.rms_u_m_per_s2 : Figure(0);
+    f.stick_probability = w.steps > 0 ? figure(w.stuck) / Figure(w.steps) : Figure(0);
+    f.den_hartog_k = den_hartog_factor_in(kinetic_friction_, mass_, f.rms_u_m_per_s2);
+    f.samples = w.samples;
+    f.stick_events = w.stick_events;
+    f.slip_events = w.slip_events;
     // Judged on full windows only: a first block or two is too short a look at the road. (No
     // friction: K = 0 says signum, or linear, suffices.)
-    if (s.window_full) regime_.update(s.den_hartog_k);
-    s.regime = regime_.regime();
-    s.regime_known = regime_.known();
-    s.regime_changes = regime_.changes();
-    s.residual_rms_m_per_s2 =
-        w.measured > 0 ? std::sqrt(S::to_double(w.residual_sq) / double(w.measured)) : 0.0;
+    if (window_.full()) regime_.update(f.den_hartog_k);
+    f.residual_rms_m_per_s2 =
+        w.measured > 0 ? std::sqrt(figure(w.residual_sq) / Figure(w.measured)) : Figure(0);
     // Set above the threshold, cleared below 80 % of it (no flicker at the threshold).
-    if (s.residual_rms_m_per_s2 > params_.mismatch_rms_m_per_s2) mismatch_ = true;
-    if (s.residual_rms_m_per_s2 < 0.8 * params_.mismatch_rms_m_per_s2) mismatch_ = false;
-    s.model_mismatch = mismatch_;
+    if (f.residual_rms_m_per_s2 > mismatch_set_) mismatch_ = true;
+    if (f.residual_rms_m_per_s2 < mismatch_clear_) mismatch_ = false;
+  }
+
+  static Figure figure(T value) noexcept {
+    if constexpr (std::is_floating_point_v<T>) {
+      return value;
+    } else {
+      return S::to_double(value);
+    }
   }
 
   Model model_;
@@ -230,11 +273,13 @@ class Observer {
   RideComfort<T> comfort_;
   ObserverParams params_{};
   ObserverEstimate<T> estimate_{};
-  ObserverSummary summary_{};
+  WindowFigures<Figure> figures_{};
   T mass_kg_{}, stiffness_{}, damping_{};
+  Figure kinetic_friction_{}, mass_{}, mismatch_set_{}, mismatch_clear_{};
   bool was_stuck_ = false;
   bool mismatch_ = false;
   std::uint64_t samples_ = 0;
+  std::uint64_t completed_blocks_ = 0;
 };
 
 }  // namespace stickslip

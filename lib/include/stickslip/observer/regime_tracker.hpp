@@ -11,8 +11,11 @@ namespace stickslip {
 
 class RegimeTracker {
  public:
+  RegimeTracker() noexcept { configure(0.05); }
   void configure(double hysteresis_k) noexcept {
-    hysteresis_k_ = hysteresis_k > 0.0 ? hysteresis_k : 0.0;
+    const double h = hysteresis_k > 0.0 ? hysteresis_k : 0.0;
+    set(double_, h);
+    set(float_, h);
     reset();
   }
   void reset() noexcept {
@@ -20,23 +23,25 @@ class RegimeTracker {
     regime_ = FrictionRegime::signum_suffices;
     changes_ = 0;
   }
-  // Feeds the latest K (from a completed window block); returns the regime.
-  FrictionRegime update(double k) noexcept {
+  // Feeds the latest K (from a completed window block); returns the regime. R: double, or float
+  // for an observer whose figures are float (no double arithmetic on an FPU without it).
+  template <typename R>
+  FrictionRegime update(R k) noexcept {
     if (!(k == k)) return regime_;  // NaN: keep what we have
+    const Thresholds<R>& t = thresholds(R(0));
     FrictionRegime next = regime_;
     if (!known_) {
-      next = friction_regime(k);
+      next = k < t.signum_below       ? FrictionRegime::signum_suffices
+             : k > t.stick_slip_above ? FrictionRegime::stick_slip_required
+                                      : FrictionRegime::transition;
       known_ = true;
-    } else {
-      const double low = kSignumSufficesBelowK, high = kStickSlipRequiredAboveK, h = hysteresis_k_;
-      if (k > high + h) {
-        next = FrictionRegime::stick_slip_required;
-      } else if (k < low - h) {
-        next = FrictionRegime::signum_suffices;
-      } else if ((regime_ == FrictionRegime::signum_suffices && k > low + h) ||
-                 (regime_ == FrictionRegime::stick_slip_required && k < high - h)) {
-        next = FrictionRegime::transition;
-      }
+    } else if (k > t.high_up) {
+      next = FrictionRegime::stick_slip_required;
+    } else if (k < t.low_down) {
+      next = FrictionRegime::signum_suffices;
+    } else if ((regime_ == FrictionRegime::signum_suffices && k > t.low_up) ||
+               (regime_ == FrictionRegime::stick_slip_required && k < t.high_down)) {
+      next = FrictionRegime::transition;
     }
     changes_ += (known_ && next != regime_) ? 1u : 0u;
     regime_ = next;
@@ -47,7 +52,21 @@ class RegimeTracker {
   std::uint32_t changes() const noexcept { return changes_; }
 
  private:
-  double hysteresis_k_ = 0.05;
+  // The boundaries (friction_regime()'s) and the boundaries moved by the hysteresis margin.
+  template <typename R>
+  struct Thresholds {
+    R signum_below, stick_slip_above, low_down, low_up, high_down, high_up;
+  };
+  template <typename R>
+  static void set(Thresholds<R>& t, double h) noexcept {
+    const double low = kSignumSufficesBelowK, high = kStickSlipRequiredAboveK;
+    t = {R(low), R(high), R(low - h), R(low + h), R(high - h), R(high + h)};
+  }
+  const Thresholds<double>& thresholds(double) const noexcept { return double_; }
+  const Thresholds<float>& thresholds(float) const noexcept { return float_; }
+
+  Thresholds<double> double_{};
+  Thresholds<float> float_{};
   FrictionRegime regime_ = FrictionRegime::signum_suffices;
   bool known_ = false;
   std::uint32_t changes_ = 0;

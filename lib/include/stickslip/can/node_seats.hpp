@@ -143,17 +143,14 @@ class ObserverSeat {
   // window figures do not depend on them).
   using Model = Observer<T, Law, kSeatWindowBlocks, false>;
 
-  // The observer's parameters (model.dt_s = the sample interval of the stream) and where the
-  // seat starts.
-  ConfigResult configure(const ObserverParams& params, T x0_m = T(0),
-                         T v0_m_per_s = T(0)) noexcept {
-    x0_ = x0_m;
-    v0_ = v0_m_per_s;
+  // The observer's parameters (model.dt_s = the sample interval of the stream); the seat starts
+  // at rest.
+  ConfigResult configure(const ObserverParams& params) noexcept {
     return observer_.configure(params);
   }
 
   SeatWords start(std::uint16_t a_u_word) noexcept {
-    observer_.reset(input(a_u_word), x0_, v0_);
+    observer_.reset(input(a_u_word));
     note_window();
     return last_words();
   }
@@ -188,7 +185,6 @@ class ObserverSeat {
   Model observer_;
   StatsWords stats_;
   std::uint64_t blocks_ = 0;
-  T x0_ = T(0), v0_ = T(0);
 };
 
 template <typename T, typename Law>

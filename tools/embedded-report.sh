@@ -322,10 +322,11 @@ w("Counted by QEMU with `-icount shift=0` (one instruction = 1 ns of virtual tim
   "SeatInput frames, one per interrupt (the controller's filter passes SeatInput only). The "
   "frames the firmware sends, and its records of every frame's step (x_r, v_r, a_x, f_f, stuck "
   "time and fraction as raw bits), from QEMU and from the same `node.cpp` built for the host are "
-  "compared frame by frame and with `cmp`; the float build's frames also with the frames "
-  "`stickslip replay --scalar float --outputs full` (the host `ecu` node over the loopback bus, "
-  "SeatStats and SeatScene included) "
-  "wrote to the same log (`tools/qemu-compare.sh`).")
+  "compared frame by frame and with `cmp`; and with the frames the host `ecu` node wrote to the "
+  "same log over the loopback bus: `stickslip replay --scalar float --outputs full` (SeatStats "
+  "and SeatScene included) for the M4F build, `stickslip replay --scalar fixed32 --outputs "
+  "motion --input-range 32.768 --displacement-range 0.1` for the M0+ build "
+  "(`tools/qemu-compare.sh`).")
 w("")
 # The bound on the work of one step: the hardest input set against the lorry.
 worst, hard = {}, {}

@@ -2,16 +2,16 @@
 # Runs the firmware's ECU node on QEMU (Cortex-M0+ build, Q7.24 fixed point, on mps2-an385;
 # Cortex-M4F build, float, on mps2-an386) on the frames of a candump log, and compares the CAN
 # frames it sends (SeatMotion/SeatForce of docs/can/stickslip.dbc, and the M4F's SeatStats/
-# SeatScene) byte for byte with the same lib/ node built for the host; the float frames also with
-# `stickslip replay`'s node over the loopback bus (the `ecu` node, --outputs full) for the same
-# log. The step records (the model's outputs, bit for
-# bit) are compared too.
+# SeatScene) byte for byte with the same lib/ node built for the host, and with the frames the
+# host `ecu` node sends over the loopback bus (`stickslip replay`) for the same log: --scalar
+# float --outputs full for the M4F, --scalar fixed32 --outputs motion for the M0+. The step
+# records (the model's outputs, bit for bit) are compared too.
 #   tools/qemu-compare.sh STICKSLIP REPLAY_DIR CROSS_ROOT WORK_DIR [CSV]
 # STICKSLIP: the host `stickslip` command; REPLAY_DIR: holds stickslip_node_replay_fixed and
 # _float (host build); CROSS_ROOT: holds cortex-m0plus/ and cortex-m4f/ build trees; CSV: the
 # recording (default: 10 s of the lorry scene, generated). The candump log is
 # `stickslip replay --output-log` of the CSV: its SeatInput frames (E2E fields) are fed to the
-# firmware, its host node's output frames are the reference for the float build. Prints, per target, the frames sent
+# firmware, its host node's output frames are the reference. Prints, per target, the frames sent
 # and compared, the mismatching frames, whether the records are identical, and the instructions
 # per received frame (mean, percentiles as the upper edge of their 100-instruction bucket, and
 # max, counted by QEMU with -icount shift=0; the index of the slowest frame, to trace it with
@@ -27,14 +27,20 @@ if [ -z "$csv" ]; then
   csv=$work/recording.csv
   "$stickslip" generate --kind lorry --rms 0.35 --duration 10 --dt 0.001 --seed 1 --output "$csv" >/dev/null
 fi
-# The firmware's seat and node (port/baremetal/src/node.cpp), float: the M4F build's scalar.
+# The firmware's seat and node (port/baremetal/src/node.cpp) as the host `ecu` node runs them:
+# float with the observer (the M4F build), Q7.24 without statistics (the M0+ build).
+seat=(--model stick-slip --ffk 45 --ffs 45 --integrator exact --input-range 32.768
+  --displacement-range 0.1)
 "$stickslip" replay --input "$csv" --bus loopback --output "$work/ecu.csv" \
-  --output-log "$work/input.log" --model stick-slip --ffk 45 --ffs 45 --integrator exact \
-  --scalar float --outputs full >"$work/ecu.json"
+  --output-log "$work/input.log" "${seat[@]}" --scalar float --outputs full >"$work/ecu.json"
+"$stickslip" replay --input "$csv" --bus loopback --output "$work/ecu-fixed32.csv" \
+  --output-log "$work/input-fixed32.log" "${seat[@]}" --scalar fixed32 --outputs motion \
+  >"$work/ecu-fixed32.json"
 
 # candump lines "(time) iface ID#DATA" -> 16-byte frame records (port/baremetal/src/replay.hpp):
 # every frame to feed the node, and the ecu node's own output frames to compare with.
-python3 - "$work/input.log" "$work/stickslip-input.bin" "$work/ecu-frames.bin" <<'PY'
+records() {  # LOG FED.bin SENT.bin
+  python3 - "$@" <<'PY'
 import re, struct, sys
 outputs = {0x180, 0x181, 0x182, 0x183}
 with open(sys.argv[1]) as log, open(sys.argv[2], "wb") as fed, open(sys.argv[3], "wb") as sent:
@@ -53,6 +59,12 @@ with open(sys.argv[1]) as log, open(sys.argv[2], "wb") as fed, open(sys.argv[3],
         else:
             fed.write(record)
 PY
+}
+records "$work/input.log" "$work/stickslip-input.bin" "$work/ecu-frames-float.bin"
+records "$work/input-fixed32.log" "$work/stickslip-input-fixed32.bin" "$work/ecu-frames-fixed.bin"
+# Both runs fed the node the same SeatInput frames.
+cmp -s "$work/stickslip-input.bin" "$work/stickslip-input-fixed32.bin" ||
+  { echo "qemu-compare: the two replays wrote different SeatInput frames" >&2; exit 1; }
 
 status=0
 run_target() {  # preset machine scalar
@@ -94,13 +106,11 @@ PY
     records=DIFFERENT
     status=1
   fi
-  if [ "$scalar" = float ]; then
-    if cmp -s "$work/ecu-frames.bin" "$dir/stickslip-frames.bin"; then
-      against_ecu=" frames_against_ecu_loopback=identical"
-    else
-      against_ecu=" frames_against_ecu_loopback=DIFFERENT"
-      status=1
-    fi
+  if cmp -s "$work/ecu-frames-$scalar.bin" "$dir/stickslip-frames.bin"; then
+    against_ecu=" frames_against_ecu_loopback=identical"
+  else
+    against_ecu=" frames_against_ecu_loopback=DIFFERENT"
+    status=1
   fi
   echo "$preset $machine $scalar frames=$frames frames_sent=$sent frames_mismatched=$mismatched frames_verdict=$frames_verdict records=$records$against_ecu instructions_per_frame_mean=$mean instructions_per_frame_p50=$p50 instructions_per_frame_p99=$p99 instructions_per_frame_p999=$p999 instructions_per_frame_max=$max worst_frame_index=$worst_frame callback_stack_bytes=$stack"
 }

@@ -224,6 +224,32 @@ TEST(LibEcuNode, DoubleObserverSeatSendsTheHostEcuNodesFullSetByteForByteThrough
   observer_seat_sends_the_host_nodes_full_set<double>(host::ScalarType::float64);
 }
 
+TEST(LibEcuNode, Fixed32HostNodeSendsTheCortexM0plusSeatsFramesByteForByteThroughFaults) {
+  // `ecu --scalar fixed32`: the host node runs the firmware's Q7.24 seat with its integer word
+  // scales, so its frames are the Cortex-M0+ firmware's.
+  const std::vector<can::Frame> stream = faulty_stream(4000);
+  host::EcuNodeConfig config = host_float_node(firmware_seat());
+  config.scalar = host::ScalarType::fixed32;
+  host::EcuNode host_node(config);
+  std::vector<can::Frame> host_frames;
+  for (const can::Frame& frame : stream) host_node.on_frame(frame, 0, host_frames);
+
+  can::EcuNode<can::ScaledSeat<Fixed32, CoulombStickSlip>> node;
+  configure_node(node, can::OutputSet::motion);
+  Collect lib;
+  for (const can::Frame& frame : stream) node.on_frame(frame, 0, lib);
+  LONGS_EQUAL(8000, lib.frames.size());
+  LONGS_EQUAL(host_frames.size(), lib.frames.size());
+  LONGS_EQUAL(0, mismatched_frames(lib.frames, host_frames));
+  LONGS_EQUAL(host_node.counters().faults(), node.counters().faults());
+  // And they are not the float seat's frames: the comparison sees the scalar.
+  can::EcuNode<can::OscillatorSeat<float, CoulombStickSlip>> float_node;
+  configure_node(float_node, can::OutputSet::motion);
+  Collect floats;
+  for (const can::Frame& frame : stream) float_node.on_frame(frame, 0, floats);
+  CHECK(mismatched_frames(floats.frames, host_frames) > 100);
+}
+
 TEST(LibEcuNode, FixedPointSeatsAxWordsAreWithinOneOfTheFloatSeats) {
   // Q7.24 in scene units (the Cortex-M0+ build) against float on the same stream. One Q7.24
   // LSB of acceleration is (L/dt^2) 2^-24 = 1.8e-4 m/s^2 (L = 3.1 mm), and the step keeps a_x

@@ -9,6 +9,7 @@
 
 #include "stickslip/can/codec.hpp"
 #include "stickslip/can/node_seats.hpp"
+#include "stickslip/core/fixed_point32.hpp"
 #include "stickslip/host/run/fixed_dispatch.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
@@ -23,8 +24,17 @@ namespace stickslip::host {
 class SeatModel {
  public:
   virtual ~SeatModel() = default;
-  virtual SampleOutput first(double a_u) = 0;
-  virtual SampleOutput step(double a_u) = 0;
+  // The SeatInput a_u word of the sample.
+  virtual SampleOutput first(std::uint16_t a_u_word) = 0;
+  virtual SampleOutput step(std::uint16_t a_u_word) = 0;
+  // The SeatMotion/SeatForce words of the last sample: quantised in double (exact for double and
+  // float runs alike), unless the model has words of its own.
+  virtual can::SeatWords words(const SampleOutput& last) const {
+    return can::SeatWords{can::quantise(can::kSeatMotion.signals[0], last.a_x),
+                          can::quantise(can::kSeatMotion.signals[1], last.x_r),
+                          can::quantise(can::kSeatForce.signals[0], last.v_r),
+                          can::quantise(can::kSeatForce.signals[1], last.f_f), last.stuck};
+  }
   virtual void summarise(SimulationSummary& summary) const = 0;
   // The observer's window figures as of its last completed block (what the node publishes).
   virtual ObserverSummary observed() const = 0;
@@ -41,6 +51,24 @@ class SeatEstimatorRun {
 };
 
 namespace {
+
+double decoded(std::uint16_t a_u_word) {
+  return can::physical<double>(can::kSeatInput.signals[0], a_u_word);
+}
+
+// The figures of a model without an observer: the whole stream so far, ready from the first
+// sample.
+ObserverSummary whole_stream_figures(const RunningStatistics<double>& statistics,
+                                     const OscillatorParams& params, std::uint64_t samples) {
+  ObserverSummary o;
+  o.rms_u_m_per_s2 = statistics.rms_u();
+  o.rms_x_m_per_s2 = statistics.rms_x();
+  o.transmissibility = statistics.transmissibility();
+  o.stick_probability = statistics.stick_probability();
+  o.den_hartog_k = den_hartog_factor(params.kinetic_friction_n, params.mass_kg, o.rms_u_m_per_s2);
+  o.window_s = static_cast<double>(samples) * params.dt_s;
+  return o;
+}
 
 template <typename T>
 class SeatEstimatorFor final : public SeatEstimatorRun {
@@ -88,8 +116,8 @@ class SeatModelFor final : public SeatModel {
     statistics_.reset();
   }
 
-  SampleOutput first(double a_u) override {
-    const T input = static_cast<T>(a_u);
+  SampleOutput first(std::uint16_t a_u_word) override {
+    const T input = static_cast<T>(decoded(a_u_word));
     observer_.reset(input, x0_, v0_);
     statistics_.reset();
     events_ = 0;
@@ -100,8 +128,8 @@ class SeatModelFor final : public SeatModel {
 
   ObserverSummary observed() const override { return observer_.summary(); }
 
-  SampleOutput step(double a_u) override {
-    const T input = static_cast<T>(a_u);
+  SampleOutput step(std::uint16_t a_u_word) override {
+    const T input = static_cast<T>(decoded(a_u_word));
     // The observer's estimate is the oscillator's step, bit for bit (tests/core/test_observer.cpp).
     const StepOutput<T> out = observer_.update(input).model;
     statistics_.add_sample(input, out.a_x_m_per_s2);
@@ -152,8 +180,8 @@ class SeatModelFixed final : public SeatModel {
         configure_for_scene(oscillator_, SceneParams{setup.effects, setup.params, setup.stops});
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
   }
-  SampleOutput first(double a_u) override {
-    const Fixed input(a_u);
+  SampleOutput first(std::uint16_t a_u_word) override {
+    const Fixed input(decoded(a_u_word));
     start_saturated_ = take_fixed_point_saturation();
     oscillator_.reset(x0_, v0_, input);
     statistics_.reset();
@@ -163,8 +191,8 @@ class SeatModelFixed final : public SeatModel {
     statistics_.add_sample(input.to_double(), out.a_x_m_per_s2.to_double());
     return convert(out);
   }
-  SampleOutput step(double a_u) override {
-    const Fixed input(a_u);
+  SampleOutput step(std::uint16_t a_u_word) override {
+    const Fixed input(decoded(a_u_word));
     const StepOutput<Fixed> out = oscillator_.step(input);
     ++samples_;
     statistics_.add_sample(input.to_double(), out.a_x_m_per_s2.to_double());
@@ -177,16 +205,7 @@ class SeatModelFixed final : public SeatModel {
     summary.saturated_steps = oscillator_.saturated_steps() + (start_saturated_ ? 1u : 0u);
   }
   ObserverSummary observed() const override {
-    ObserverSummary o;
-    o.rms_u_m_per_s2 = statistics_.rms_u();
-    o.rms_x_m_per_s2 = statistics_.rms_x();
-    o.transmissibility = statistics_.transmissibility();
-    o.stick_probability = statistics_.stick_probability();
-    o.den_hartog_k = den_hartog_factor(setup_.params.kinetic_friction_n, setup_.params.mass_kg,
-                                       o.rms_u_m_per_s2);
-    // The whole stream so far: ready from the first sample.
-    o.window_s = static_cast<double>(samples_) * setup_.params.dt_s;
-    return o;
+    return whole_stream_figures(statistics_, setup_.params, samples_);
   }
 
  private:
@@ -208,6 +227,73 @@ std::unique_ptr<SeatModel> make_fixed_model(const SimulationSetup& setup) {
   return with_fixed_scene_model(scene, [&](auto& model) -> std::unique_ptr<SeatModel> {
     return std::make_unique<SeatModelFixed<std::decay_t<decltype(model)>>>(setup);
   });
+}
+
+// Q7.24 in scene units: the Cortex-M0+ firmware's seat (can::ScaledSeat, node_seats.hpp), its
+// input and output words by its integer scales, so the node sends the firmware's frames. The
+// trace and statistics in SI (double); T_ax, p and K those of the whole stream so far.
+template <typename Seat>
+class SeatModelFixed32 final : public SeatModel {
+ public:
+  explicit SeatModelFixed32(const SimulationSetup& setup) : setup_(setup) {
+    const ConfigResult configured = seat_.configure(setup.params);
+    if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+    if (setup.x0_m != 0.0 || setup.v0_m_per_s != 0.0)
+      throw UsageError("--scalar fixed32: the ECU node's seat starts at rest (x0 = v0 = 0)");
+    units_ = seat_.model().units();
+  }
+  SampleOutput first(std::uint16_t a_u_word) override {
+    words_ = seat_.start(a_u_word);
+    statistics_.reset();
+    events_ = 0;
+    samples_ = 1;
+    const SampleOutput out = convert(seat_.last());
+    statistics_.add_sample(decoded(a_u_word), out.a_x);
+    return out;
+  }
+  SampleOutput step(std::uint16_t a_u_word) override {
+    words_ = seat_.step(a_u_word);
+    ++samples_;
+    const StepOutput<Fixed32>& out = seat_.last();
+    const SampleOutput converted = convert(out);
+    statistics_.add_sample(decoded(a_u_word), converted.a_x);
+    statistics_.add_step(out.stuck_fraction.to_double());
+    events_ += out.events;
+    return converted;
+  }
+  can::SeatWords words(const SampleOutput& /*last*/) const override { return words_; }
+  void summarise(SimulationSummary& summary) const override {
+    summarise_run(summary, statistics_, seat_.model().oscillator(), events_);
+    summary.saturated_steps = seat_.model().oscillator().saturated_steps();
+  }
+  ObserverSummary observed() const override {
+    return whole_stream_figures(statistics_, setup_.params, samples_);
+  }
+
+ private:
+  SampleOutput convert(const StepOutput<Fixed32>& out) const {
+    return {out.x_r_m.to_double() * units_.length_m,
+            out.v_r_m_per_s.to_double() * units_.velocity_m_per_s(),
+            out.a_x_m_per_s2.to_double() * units_.acceleration_m_per_s2(),
+            out.friction_n.to_double() * units_.force_n(), out.stuck};
+  }
+  SimulationSetup setup_;
+  Seat seat_;
+  SceneUnits units_;
+  can::SeatWords words_;
+  RunningStatistics<double> statistics_;
+  std::uint64_t events_ = 0;
+  std::uint64_t samples_ = 0;
+};
+
+template <typename Law>
+using Fixed32NodeSeat = can::ScaledSeat<Fixed32, Law>;
+
+std::unique_ptr<SeatModel> make_fixed32_model(const SimulationSetup& setup) {
+  return with_fixed_law<Fixed32NodeSeat>(
+      setup.params, [&](auto& seat) -> std::unique_ptr<SeatModel> {
+        return std::make_unique<SeatModelFixed32<std::decay_t<decltype(seat)>>>(setup);
+      });
 }
 
 template <typename T>
@@ -234,10 +320,10 @@ std::uint64_t clock_ns() {
 
 }  // namespace
 
-std::string ecu_node_scalar_refusal(ScalarType scalar) {
+std::string ecu_node_scalar_refusal(ScalarType scalar, unsigned effects) {
   if (scalar != ScalarType::fixed32) return {};
-  return "--scalar fixed32: offered by simulate and the Cortex-M0+ firmware (port/baremetal), not "
-         "by the host ECU node; use fixed (Q23.40)";
+  const std::string refusal = fixed32_scene_refusal(effects);
+  return refusal.empty() ? refusal : "--scalar fixed32: " + refusal;
 }
 
 StateEstimatorParams node_estimator_params(const OscillatorParams& params) {
@@ -281,19 +367,13 @@ std::string estimator_limits(const can::SensorCounters& sensors, std::uint64_t s
 }
 
 can::SeatWords HostSeat::start(std::uint16_t a_u_word) {
-  last = model->first(can::physical<double>(can::kSeatInput.signals[0], a_u_word));
-  return can::SeatWords{can::quantise(can::kSeatMotion.signals[0], last.a_x),
-                        can::quantise(can::kSeatMotion.signals[1], last.x_r),
-                        can::quantise(can::kSeatForce.signals[0], last.v_r),
-                        can::quantise(can::kSeatForce.signals[1], last.f_f), last.stuck};
+  last = model->first(a_u_word);
+  return model->words(last);
 }
 
 can::SeatWords HostSeat::step(std::uint16_t a_u_word) {
-  last = model->step(can::physical<double>(can::kSeatInput.signals[0], a_u_word));
-  return can::SeatWords{can::quantise(can::kSeatMotion.signals[0], last.a_x),
-                        can::quantise(can::kSeatMotion.signals[1], last.x_r),
-                        can::quantise(can::kSeatForce.signals[0], last.v_r),
-                        can::quantise(can::kSeatForce.signals[1], last.f_f), last.stuck};
+  last = model->step(a_u_word);
+  return model->words(last);
 }
 
 can::StatsWords HostSeat::statistics() const {
@@ -314,11 +394,26 @@ EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config) {
   if (config_.stats_every == 0) config_.stats_every = 1;
   if (config_.output_every == 0) throw UsageError("--output-every: must be >= 1 sample");
   if (config_.setup.reference) throw UsageError("the ECU node runs the core's integrators only");
-  const std::string refusal = ecu_node_scalar_refusal(config_.scalar);
+  const std::string refusal = ecu_node_scalar_refusal(config_.scalar, config_.setup.effects);
   if (!refusal.empty()) throw UsageError(refusal);
-  model_ = config_.scalar == ScalarType::fixed     ? make_fixed_model(config_.setup)
-           : config_.scalar == ScalarType::float32 ? make_model<float>(config_.setup)
-                                                   : make_model<double>(config_.setup);
+  if (config_.estimator &&
+      (config_.scalar == ScalarType::fixed || config_.scalar == ScalarType::fixed32))
+    throw UsageError(
+        "--estimator: runs in double or float only (its covariance spans 1e-16 .. 1e2, which no "
+        "Q format holds); use --scalar double or float");
+  switch (config_.scalar) {
+    case ScalarType::fixed:
+      model_ = make_fixed_model(config_.setup);
+      break;
+    case ScalarType::fixed32:
+      model_ = make_fixed32_model(config_.setup);
+      break;
+    case ScalarType::float32:
+      model_ = make_model<float>(config_.setup);
+      break;
+    default:
+      model_ = make_model<double>(config_.setup);
+  }
   node_.seat().model = model_.get();
   can::EcuNodeParams node_params;
   node_params.checker = config_.checker;
@@ -328,10 +423,6 @@ EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config) {
   if (node_.configure(node_params) != Status::ok)
     throw UsageError("the ECU node refused its output and stats cycles");
   if (config_.estimator) {
-    if (config_.scalar == ScalarType::fixed)
-      throw UsageError(
-          "--estimator: runs in double or float only (its covariance spans 1e-16 .. 1e2, which no "
-          "Q format holds); use --scalar double or float");
     if (config_.setup.effects & kEndStops)
       throw UsageError(
           "--estimator: the state estimator models the seat without end stops, so its estimates "

@@ -205,7 +205,7 @@ ResolvedModel ModelOptions::resolve(const CLI::App& command, SimulationSetup& se
                      "symplectic or euler");
   }
   if (choices_.bus_node) {
-    const std::string refusal = ecu_node_scalar_refusal(resolved.scalar);
+    const std::string refusal = ecu_node_scalar_refusal(resolved.scalar, setup.effects);
     if (!refusal.empty()) throw UsageError(refusal);
   }
   default_static_friction(command, p, resolved.scene ? &*resolved.scene : nullptr);

@@ -24,10 +24,10 @@ struct ModelChoices {
   bool bus_node = false;
 };
 
-// simulate runs everything; the ECU node (replay, ecu) the core's integrators in double, float
-// and Q23.40.
+// simulate runs everything; the ECU node (replay, ecu) the core's integrators in double, float,
+// Q23.40 and Q7.24 (the Cortex-M0+ firmware's seat, without end stops).
 inline constexpr ModelChoices kSimulateChoices{true, true, false};
-inline constexpr ModelChoices kBusNodeChoices{false, false, true};
+inline constexpr ModelChoices kBusNodeChoices{false, true, true};
 
 struct ResolvedModel {
   ScalarType scalar = ScalarType::float64;

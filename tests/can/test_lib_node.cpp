@@ -73,9 +73,19 @@ bool same_bytes(const can::Frame& a, const can::Frame& b) {
   return true;
 }
 
+// The firmware's seat, as each lib seat takes it.
+template <typename Seat>
+ConfigResult configure_seat(Seat& seat) {
+  return seat.configure(firmware_seat());
+}
+template <typename T, typename Law>
+ConfigResult configure_seat(can::ObserverSeat<T, Law>& seat) {
+  return seat.configure(can::seat_observer_params(firmware_seat()));
+}
+
 template <typename Seat>
 void configure_node(can::EcuNode<Seat>& node, can::OutputSet outputs) {
-  CHECK(node.seat().configure(firmware_seat()).ok());
+  CHECK(configure_seat(node.seat()).ok());
   can::EcuNodeParams params;
   params.outputs = outputs;
   params.checker.max_gap = 10;
@@ -92,6 +102,30 @@ host::EcuNodeConfig host_float_node(const OscillatorParams& params) {
   return config;
 }
 
+// What the host `ecu` node sends for `stream`, and the faults it counted.
+struct HostRun {
+  std::vector<can::Frame> frames;
+  std::uint64_t faults = 0, held_samples = 0;
+};
+HostRun run_host_node(const host::EcuNodeConfig& config, const std::vector<can::Frame>& stream) {
+  host::EcuNode node(config);
+  HostRun run;
+  for (const can::Frame& frame : stream) node.on_frame(frame, 0, run.frames);
+  run.faults = node.counters().faults();
+  run.held_samples = node.counters().held_samples;
+  return run;
+}
+
+// What the lib node with the firmware's seat configuration sends for `stream`.
+template <typename Seat>
+Collect run_lib_node(can::EcuNode<Seat>& node, can::OutputSet outputs,
+                     const std::vector<can::Frame>& stream) {
+  configure_node(node, outputs);
+  Collect collected;
+  for (const can::Frame& frame : stream) node.on_frame(frame, 0, collected);
+  return collected;
+}
+
 // Frames of `a` whose bytes differ from the frame at the same place in `b` (same length).
 std::size_t mismatched_frames(const std::vector<can::Frame>& a, const std::vector<can::Frame>& b) {
   std::size_t mismatched = 0;
@@ -106,27 +140,21 @@ TEST_GROUP(LibEcuNode){};
 
 TEST(LibEcuNode, FloatSeatSendsTheHostEcuNodesFramesByteForByteThroughFaults) {
   const std::vector<can::Frame> stream = faulty_stream(4000);
-  host::EcuNode host_node(host_float_node(firmware_seat()));
-  std::vector<can::Frame> host_frames;
-  for (const can::Frame& frame : stream) host_node.on_frame(frame, 0, host_frames);
-
+  const HostRun host = run_host_node(host_float_node(firmware_seat()), stream);
   can::EcuNode<can::OscillatorSeat<float, CoulombStickSlip>> node;
-  configure_node(node, can::OutputSet::motion);
-  Collect lib;
-  for (const can::Frame& frame : stream) node.on_frame(frame, 0, lib);
+  const Collect lib = run_lib_node(node, can::OutputSet::motion, stream);
 
   // 4000 samples (the lost ones held), two frames each.
   LONGS_EQUAL(4000, node.samples());
   LONGS_EQUAL(4000, lib.samples);
   LONGS_EQUAL(8000, lib.frames.size());
-  LONGS_EQUAL(host_frames.size(), lib.frames.size());
-  const std::size_t mismatched = mismatched_frames(lib.frames, host_frames);
-  LONGS_EQUAL(0, mismatched);
+  LONGS_EQUAL(host.frames.size(), lib.frames.size());
+  LONGS_EQUAL(0, mismatched_frames(lib.frames, host.frames));
   // The faults were seen, and counted alike.
   const can::FaultCounters& c = node.counters();
   CHECK(c.lost > 0 && c.duplicate > 0 && c.bad_crc > 0 && c.foreign_frames > 0);
-  LONGS_EQUAL(host_node.counters().faults(), c.faults());
-  LONGS_EQUAL(host_node.counters().held_samples, c.held_samples);
+  LONGS_EQUAL(host.faults, c.faults());
+  LONGS_EQUAL(host.held_samples, c.held_samples);
 }
 
 TEST(LibEcuNode, AChangedSeatIsCaughtByTheFrameComparison) {
@@ -134,26 +162,18 @@ TEST(LibEcuNode, AChangedSeatIsCaughtByTheFrameComparison) {
   const std::vector<can::Frame> stream = faulty_stream(4000);
   OscillatorParams changed = firmware_seat();
   changed.kinetic_friction_n = changed.static_friction_n = 44.0;
-  host::EcuNode host_node(host_float_node(changed));
-  std::vector<can::Frame> host_frames;
-  for (const can::Frame& frame : stream) host_node.on_frame(frame, 0, host_frames);
+  const HostRun host = run_host_node(host_float_node(changed), stream);
   can::EcuNode<can::OscillatorSeat<float, CoulombStickSlip>> node;
-  configure_node(node, can::OutputSet::motion);
-  Collect lib;
-  for (const can::Frame& frame : stream) node.on_frame(frame, 0, lib);
-  LONGS_EQUAL(host_frames.size(), lib.frames.size());
-  const std::size_t mismatched = mismatched_frames(lib.frames, host_frames);
-  CHECK(mismatched > 1000);
+  const Collect lib = run_lib_node(node, can::OutputSet::motion, stream);
+  LONGS_EQUAL(host.frames.size(), lib.frames.size());
+  CHECK(mismatched_frames(lib.frames, host.frames) > 1000);
 }
 
 TEST(LibEcuNode, FullSetSendsSeatStatsAndSceneWithNotAvailableStatisticsAndTheFaultCount) {
   // OscillatorSeat keeps no running statistics: SeatStats and SeatScene say not available; the
   // fault count in SeatScene is the checker's.
   can::EcuNode<can::OscillatorSeat<double, CoulombStickSlip>> node;
-  configure_node(node, can::OutputSet::full);
-  Collect lib;
-  const std::vector<can::Frame> stream = faulty_stream(1000);
-  for (const can::Frame& frame : stream) node.on_frame(frame, 0, lib);
+  const Collect lib = run_lib_node(node, can::OutputSet::full, faulty_stream(1000));
   // Per sample SeatMotion and SeatForce, every 10th SeatStats and SeatScene.
   LONGS_EQUAL(2 * 1000 + 2 * 100, lib.frames.size());
   const can::Frame& scene = lib.frames[lib.frames.size() - 19];  // of sample 990
@@ -175,23 +195,14 @@ void observer_seat_sends_the_host_nodes_full_set(host::ScalarType scalar) {
   host::EcuNodeConfig config = host_float_node(firmware_seat());
   config.scalar = scalar;
   config.outputs = can::OutputSet::full;
-  host::EcuNode host_node(config);
-  std::vector<can::Frame> host_frames;
-  for (const can::Frame& frame : stream) host_node.on_frame(frame, 0, host_frames);
-
+  const HostRun host = run_host_node(config, stream);
   can::EcuNode<can::ObserverSeat<T, CoulombStickSlip>> node;
-  CHECK(node.seat().configure(can::seat_observer_params(firmware_seat())).ok());
-  can::EcuNodeParams params;
-  params.outputs = can::OutputSet::full;
-  params.checker.max_gap = 10;
-  CHECK(node.configure(params) == Status::ok);
-  Collect lib;
-  for (const can::Frame& frame : stream) node.on_frame(frame, 0, lib);
+  const Collect lib = run_lib_node(node, can::OutputSet::full, stream);
 
   // Per sample SeatMotion and SeatForce, every 10th SeatStats and SeatScene.
   LONGS_EQUAL(2 * samples + 2 * (samples / 10), lib.frames.size());
-  LONGS_EQUAL(host_frames.size(), lib.frames.size());
-  LONGS_EQUAL(0, mismatched_frames(lib.frames, host_frames));
+  LONGS_EQUAL(host.frames.size(), lib.frames.size());
+  LONGS_EQUAL(0, mismatched_frames(lib.frames, host.frames));
   // The statistics compared are figures: not available until the first block (1 s) completes,
   // then T_ax and p that move with every block, and K.
   int not_available = 0;
@@ -230,24 +241,17 @@ TEST(LibEcuNode, Fixed32HostNodeSendsTheCortexM0plusSeatsFramesByteForByteThroug
   const std::vector<can::Frame> stream = faulty_stream(4000);
   host::EcuNodeConfig config = host_float_node(firmware_seat());
   config.scalar = host::ScalarType::fixed32;
-  host::EcuNode host_node(config);
-  std::vector<can::Frame> host_frames;
-  for (const can::Frame& frame : stream) host_node.on_frame(frame, 0, host_frames);
-
+  const HostRun host = run_host_node(config, stream);
   can::EcuNode<can::ScaledSeat<Fixed32, CoulombStickSlip>> node;
-  configure_node(node, can::OutputSet::motion);
-  Collect lib;
-  for (const can::Frame& frame : stream) node.on_frame(frame, 0, lib);
+  const Collect lib = run_lib_node(node, can::OutputSet::motion, stream);
   LONGS_EQUAL(8000, lib.frames.size());
-  LONGS_EQUAL(host_frames.size(), lib.frames.size());
-  LONGS_EQUAL(0, mismatched_frames(lib.frames, host_frames));
-  LONGS_EQUAL(host_node.counters().faults(), node.counters().faults());
+  LONGS_EQUAL(host.frames.size(), lib.frames.size());
+  LONGS_EQUAL(0, mismatched_frames(lib.frames, host.frames));
+  LONGS_EQUAL(host.faults, node.counters().faults());
   // And they are not the float seat's frames: the comparison sees the scalar.
   can::EcuNode<can::OscillatorSeat<float, CoulombStickSlip>> float_node;
-  configure_node(float_node, can::OutputSet::motion);
-  Collect floats;
-  for (const can::Frame& frame : stream) float_node.on_frame(frame, 0, floats);
-  CHECK(mismatched_frames(floats.frames, host_frames) > 100);
+  const Collect floats = run_lib_node(float_node, can::OutputSet::motion, stream);
+  CHECK(mismatched_frames(floats.frames, host.frames) > 100);
 }
 
 TEST(LibEcuNode, FixedPointSeatsAxWordsAreWithinOneOfTheFloatSeats) {

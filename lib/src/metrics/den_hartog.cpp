@@ -7,12 +7,6 @@ double den_hartog_factor(double kinetic_friction_n, double mass_kg,
   return den_hartog_factor_in(kinetic_friction_n, mass_kg, rms_u_m_per_s2);
 }
 
-FrictionRegime friction_regime(double den_hartog_k) noexcept {
-  if (den_hartog_k < kSignumSufficesBelowK) return FrictionRegime::signum_suffices;
-  if (den_hartog_k > kStickSlipRequiredAboveK) return FrictionRegime::stick_slip_required;
-  return FrictionRegime::transition;
-}
-
 const char* regime_name(FrictionRegime regime) noexcept {
   switch (regime) {
     case FrictionRegime::signum_suffices:

@@ -25,7 +25,13 @@ R den_hartog_factor_in(R kinetic_friction_n, R mass_kg, R rms_u_m_per_s2) noexce
 // K in double.
 double den_hartog_factor(double kinetic_friction_n, double mass_kg, double rms_u_m_per_s2) noexcept;
 
-FrictionRegime friction_regime(double den_hartog_k) noexcept;
+// The regime K says, in K's own type R (float or double): the boundaries are R's nearest.
+template <typename R>
+FrictionRegime friction_regime(R den_hartog_k) noexcept {
+  if (den_hartog_k < R(kSignumSufficesBelowK)) return FrictionRegime::signum_suffices;
+  if (den_hartog_k > R(kStickSlipRequiredAboveK)) return FrictionRegime::stick_slip_required;
+  return FrictionRegime::transition;
+}
 const char* regime_name(FrictionRegime regime) noexcept;
 
 }  // namespace stickslip

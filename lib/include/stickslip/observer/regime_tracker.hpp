@@ -31,9 +31,7 @@ class RegimeTracker {
     const Thresholds<R>& t = thresholds(R(0));
     FrictionRegime next = regime_;
     if (!known_) {
-      next = k < t.signum_below       ? FrictionRegime::signum_suffices
-             : k > t.stick_slip_above ? FrictionRegime::stick_slip_required
-                                      : FrictionRegime::transition;
+      next = friction_regime(k);
       known_ = true;
     } else if (k > t.high_up) {
       next = FrictionRegime::stick_slip_required;
@@ -52,15 +50,15 @@ class RegimeTracker {
   std::uint32_t changes() const noexcept { return changes_; }
 
  private:
-  // The boundaries (friction_regime()'s) and the boundaries moved by the hysteresis margin.
+  // The boundaries moved by the hysteresis margin.
   template <typename R>
   struct Thresholds {
-    R signum_below, stick_slip_above, low_down, low_up, high_down, high_up;
+    R low_down, low_up, high_down, high_up;
   };
   template <typename R>
   static void set(Thresholds<R>& t, double h) noexcept {
     const double low = kSignumSufficesBelowK, high = kStickSlipRequiredAboveK;
-    t = {R(low), R(high), R(low - h), R(low + h), R(high - h), R(high + h)};
+    t = {R(low - h), R(low + h), R(high - h), R(high + h)};
   }
   const Thresholds<double>& thresholds(double) const noexcept { return double_; }
   const Thresholds<float>& thresholds(float) const noexcept { return float_; }

@@ -16,13 +16,13 @@ using Seat = stickslip::can::ScaledSeat<Scalar, stickslip::CoulombStickSlip>;
 const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const Seat& s) {
   return s.model().oscillator();
 }
-// No running statistics: the observer's window sums would need 64-bit sums in scene units and
-// its figures software double; the node publishes SeatMotion and SeatForce only.
+// No running statistics: the window's figures (square roots and divisions once per block) would
+// run in software on ARMv6-M; the node publishes SeatMotion and SeatForce only.
 constexpr stickslip::can::OutputSet kOutputs = stickslip::can::OutputSet::motion;
 #else
 using Scalar = float;  // Cortex-M4F: single-precision FPU
 // The observer, as the host node runs it: its estimate is the oscillator's step, and its window
-// gives SeatStats and SeatScene (T_ax, p, K; figured in double, in software, once per block).
+// gives SeatStats and SeatScene (T_ax, p, K; figured in float once per block).
 using Seat = stickslip::can::ObserverSeat<Scalar, stickslip::CoulombStickSlip>;
 const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const Seat& s) {
   return s.oscillator();

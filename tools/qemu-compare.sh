@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Runs the firmware's ECU node on QEMU (Cortex-M0+ build, Q7.24 fixed point, on mps2-an385;
 # Cortex-M4F build, float, on mps2-an386) on the frames of a candump log, and compares the CAN
-# frames it sends (SeatMotion/SeatForce of docs/can/stickslip.dbc, and the M4F's SeatStats/
-# SeatScene) byte for byte with the same lib/ node built for the host, and with the frames the
-# host `ecu` node sends over the loopback bus (`stickslip replay`) for the same log: --scalar
-# float --outputs full for the M4F, --scalar fixed32 --outputs motion for the M0+. The step
-# records (the model's outputs, bit for bit) are compared too.
+# frames it sends (SeatMotion/SeatForce/SeatStats/SeatScene of docs/can/stickslip.dbc) byte for
+# byte with the same lib/ node built for the host, and with the frames the host `ecu` node sends
+# over the loopback bus (`stickslip replay --outputs full`) for the same log: --scalar float for
+# the M4F, --scalar fixed32 for the M0+. The step records (the model's outputs, bit for bit) are
+# compared too.
 #   tools/qemu-compare.sh STICKSLIP REPLAY_DIR CROSS_ROOT WORK_DIR [CSV]
 # STICKSLIP: the host `stickslip` command; REPLAY_DIR: holds stickslip_node_replay_fixed and
 # _float (host build); CROSS_ROOT: holds cortex-m0plus/ and cortex-m4f/ build trees; CSV: the
@@ -28,13 +28,13 @@ if [ -z "$csv" ]; then
   "$stickslip" generate --kind lorry --rms 0.35 --duration 10 --dt 0.001 --seed 1 --output "$csv" >/dev/null
 fi
 # The firmware's seat and node (port/baremetal/src/node.cpp) as the host `ecu` node runs them:
-# float with the observer (the M4F build), Q7.24 without statistics (the M0+ build).
+# float with the observer (the M4F build), Q7.24 with its window over its words (the M0+ build).
 seat=(--model stick-slip --ffk 45 --ffs 45 --integrator exact --input-range 32.768
   --displacement-range 0.1)
 "$stickslip" replay --input "$csv" --bus loopback --output "$work/ecu.csv" \
   --output-log "$work/input.log" "${seat[@]}" --scalar float --outputs full >"$work/ecu.json"
 "$stickslip" replay --input "$csv" --bus loopback --output "$work/ecu-fixed32.csv" \
-  --output-log "$work/input-fixed32.log" "${seat[@]}" --scalar fixed32 --outputs motion \
+  --output-log "$work/input-fixed32.log" "${seat[@]}" --scalar fixed32 --outputs full \
   >"$work/ecu-fixed32.json"
 
 # candump lines "(time) iface ID#DATA" -> 16-byte frame records (port/baremetal/src/replay.hpp):

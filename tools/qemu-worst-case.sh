@@ -18,10 +18,12 @@ set -euo pipefail
 # measures on the set (docs/EMBEDDED.md, "Bound on the work of one step"), not the targets of
 # 4,000 (Cortex-M0+) and 600 (Cortex-M4F) instructions, which the step does not meet. QEMU's count
 # is deterministic, so the same ELFs measure the same figures on every machine.
-# Cortex-M0+ (Q7.24, one tick per step, the cubic search, at most 3 events): 11,560 measured.
+# Cortex-M0+ (Q7.24, one tick per step, the cubic search, at most 3 events, and a stage of the
+# statistics window): 11,880 measured (11,560 before the window; its worst frame is a step with
+# events that also figures K).
 readonly kLimitM0plus=12140
 # Cortex-M4F (float, one tick per step for this seat, Taylor/Newton inside it, and the observer's
-# window): 5,520 measured (5,440 before the observer; the limit was set 5 % above that).
+# window): 5,480 measured (5,440 before the observer; the limit was set 5 % above that).
 readonly kLimitM4f=5710
 # The Cortex-M0+ target that is met: the worst frame at most 5 times the median, taken at the
 # lower edge of the median's 100-instruction bucket (the smallest the median can be).
@@ -63,10 +65,9 @@ while read -r preset _ _ rest; do
     --set max_gap=0 | python3 -c 'import json, sys; print(json.load(sys.stdin)["instructions_bound"])') ||
     bound=""
   within=ok
-  # One sample per frame: SeatMotion and SeatForce per frame, and on the M4F (--outputs full)
-  # SeatStats and SeatScene with the first sample and every tenth after it.
-  expected=$((2 * ${frames:-0}))
-  [ "$preset" = cortex-m4f ] && expected=$((expected + 2 * ((${frames:-0} + 9) / 10)))
+  # One sample per frame: SeatMotion and SeatForce per frame, and (--outputs full) SeatStats and
+  # SeatScene with the first sample and every tenth after it.
+  expected=$((2 * ${frames:-0} + 2 * ((${frames:-0} + 9) / 10)))
   if [ -z "$bound" ] || [ -z "$max" ] || [ "${sent:-0}" -ne "$expected" ] ||
     [ "$max" -gt "$bound" ]; then
     within=OVER

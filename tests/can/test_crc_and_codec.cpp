@@ -138,6 +138,42 @@ TEST(Codec, QuantiseGivesLdexpsWordsBitForBitInDoubleAndFloat) {
   LONGS_EQUAL(0, mismatches_against_ldexp<float>());
 }
 
+namespace {
+
+// physical() for every word of every signal against ldexp(raw, -fraction_bits); NaN for the
+// not-available word.
+template <typename T>
+long physical_mismatches_against_ldexp() {
+  long mismatched = 0;
+  for (const MessageSpec* message : kMessages) {
+    for (const SignalSpec& signal : message->signals) {
+      for (std::uint32_t word = 0; word <= 0xFFFFu; ++word) {
+        const auto w = static_cast<std::uint16_t>(word);
+        const T got = physical<T>(signal, w);
+        if (not_available(signal, w)) {
+          if (got == got) ++mismatched;
+          continue;
+        }
+        const T raw = signal.is_signed ? T(word_as_signed(w)) : T(w);
+        if (got != std::ldexp(raw, -signal.fraction_bits)) ++mismatched;
+      }
+    }
+  }
+  return mismatched;
+}
+
+}  // namespace
+
+TEST(Codec, PhysicalGivesLdexpsValuesBitForBitInDoubleAndFloat) {
+  LONGS_EQUAL(0, physical_mismatches_against_ldexp<double>());
+  LONGS_EQUAL(0, physical_mismatches_against_ldexp<float>());
+  // The exponent field is the power: 2^-31 .. 2^0.
+  for (int n = 0; n <= 31; ++n) {
+    CHECK(inverse_power_of_two<float>(n) == std::ldexp(1.0f, -n));
+    CHECK(inverse_power_of_two<double>(n) == std::ldexp(1.0, -n));
+  }
+}
+
 TEST(Codec, OutOfRangeValuesSaturateAndSaySo) {
   const SignalSpec& a_u = kSeatInput.signals[0];
   Quantised q = quantise(a_u, 40.0);

@@ -186,17 +186,19 @@ TEST(LibEcuNode, FullSetSendsSeatStatsAndSceneWithNotAvailableStatisticsAndTheFa
 
 namespace {
 
-// The observer seat (the Cortex-M4F firmware's in float) against the host `ecu` node with the full
-// output set, over 12 s: window blocks complete every second and the window fills at 10 s.
-template <typename T>
-void observer_seat_sends_the_host_nodes_full_set(host::ScalarType scalar) {
+// A seat with a statistics window (the Cortex-M4F firmware's observer, the Cortex-M0+'s window
+// over its words) against the host `ecu` node with the full output set, over 12 s: window blocks
+// complete every second and the window fills at 10 s. SeatStats says not available for the first
+// `not_available_frames` of its frames.
+template <typename Seat>
+void seat_sends_the_host_nodes_full_set(can::EcuNode<Seat>& node, host::ScalarType scalar,
+                                        int not_available_frames) {
   const std::uint64_t samples = 12000;
   const std::vector<can::Frame> stream = faulty_stream(samples);
   host::EcuNodeConfig config = host_float_node(firmware_seat());
   config.scalar = scalar;
   config.outputs = can::OutputSet::full;
   const HostRun host = run_host_node(config, stream);
-  can::EcuNode<can::ObserverSeat<T, CoulombStickSlip>> node;
   const Collect lib = run_lib_node(node, can::OutputSet::full, stream);
 
   // Per sample SeatMotion and SeatForce, every 10th SeatStats and SeatScene.
@@ -216,12 +218,19 @@ void observer_seat_sends_the_host_nodes_full_set(host::ScalarType scalar) {
       t_ax_words.push_back(p.words[0]);
     }
   }
-  LONGS_EQUAL(100, not_available);  // samples 0, 10, ..., 990
+  LONGS_EQUAL(not_available_frames, not_available);
   CHECK(t_ax_words.size() >= 10);
   const can::Frame& last_scene = lib.frames[lib.frames.size() - 19];  // of sample 11990
   LONGS_EQUAL(can::kSeatScene.id, last_scene.id);
   const can::Payload scene = can::decode_payload(last_scene.data);
   CHECK_FALSE(can::not_available(can::kSeatScene.signals[0], scene.words[0]));
+}
+
+template <typename T>
+void observer_seat_sends_the_host_nodes_full_set(host::ScalarType scalar) {
+  can::EcuNode<can::ObserverSeat<T, CoulombStickSlip>> node;
+  // Samples 0, 10, ..., 990: the first block completes with sample 1000, and its SeatStats has it.
+  seat_sends_the_host_nodes_full_set(node, scalar, 100);
   CHECK(node.seat().observer().window().samples == 10000);
 }
 
@@ -252,6 +261,14 @@ TEST(LibEcuNode, Fixed32HostNodeSendsTheCortexM0plusSeatsFramesByteForByteThroug
   can::EcuNode<can::OscillatorSeat<float, CoulombStickSlip>> float_node;
   const Collect floats = run_lib_node(float_node, can::OutputSet::motion, stream);
   CHECK(mismatched_frames(floats.frames, host.frames) > 100);
+}
+
+TEST(LibEcuNode, Fixed32HostNodeSendsTheCortexM0plusSeatsFullSetWithItsWordWindowByteForByte) {
+  can::EcuNode<can::ScaledSeat<Fixed32, CoulombStickSlip>> node;
+  // Samples 0, 10, ..., 1000: the first block completes with sample 1000 and its figures are
+  // published kStages samples later.
+  static_assert(can::WordWindow<can::kSeatWindowBlocks>::kStages == 3, "published at 1003");
+  seat_sends_the_host_nodes_full_set(node, host::ScalarType::fixed32, 101);
 }
 
 TEST(LibEcuNode, FixedPointSeatsAxWordsAreWithinOneOfTheFloatSeats) {

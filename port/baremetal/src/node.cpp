@@ -16,9 +16,8 @@ using Seat = stickslip::can::ScaledSeat<Scalar, stickslip::CoulombStickSlip>;
 const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const Seat& s) {
   return s.model().oscillator();
 }
-// No running statistics: the window's figures (square roots and divisions once per block) would
-// run in software on ARMv6-M; the node publishes SeatMotion and SeatForce only.
-constexpr stickslip::can::OutputSet kOutputs = stickslip::can::OutputSet::motion;
+// Its statistics: the block window over its own words (can/word_window.hpp), whose figures run
+// in software float, a stage per sample after a block completes.
 #else
 using Scalar = float;  // Cortex-M4F: single-precision FPU
 // The observer, as the host node runs it: its estimate is the oscillator's step, and its window
@@ -27,8 +26,10 @@ using Seat = stickslip::can::ObserverSeat<Scalar, stickslip::CoulombStickSlip>;
 const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const Seat& s) {
   return s.oscillator();
 }
-constexpr stickslip::can::OutputSet kOutputs = stickslip::can::OutputSet::full;
 #endif
+// Every sample SeatMotion and SeatForce, every tenth SeatStats and SeatScene (as the host node's
+// --outputs full).
+constexpr stickslip::can::OutputSet kOutputs = stickslip::can::OutputSet::full;
 
 Seat seat;  // the model's coefficients and state, statically allocated (no heap)
 
@@ -47,7 +48,7 @@ struct FirmwareSeat {
   stickslip::can::SeatWords start(std::uint16_t a_u_word) { return seat.start(a_u_word); }
   stickslip::can::SeatWords step(std::uint16_t a_u_word) {
     stickslip_seat_step(seat.input(a_u_word));
-    return seat.last_words();
+    return seat.finish_step(a_u_word);
   }
   stickslip::can::StatsWords statistics() const { return seat.statistics(); }
 };

@@ -1,10 +1,10 @@
 // The ECU node of lib/ (stickslip/can/ecu_node.hpp) behind a CAN receive callback: SeatInput
 // frames of docs/can/stickslip.dbc in (E2E CRC and counters checked as the host node checks
 // them, lost samples held), one seat step per sample, SeatMotion and SeatForce out (the DBC's
-// layout and E2E fields), and on the Cortex-M4F the observer's SeatStats and SeatScene every tenth
-// sample as the host node sends them (the Cortex-M0+ build keeps no running statistics). Frames
-// with other identifiers are counted and ignored. Everything statically allocated; no heap, no
-// exceptions.
+// layout and E2E fields), and SeatStats and SeatScene every tenth sample as the host node sends
+// them (the Cortex-M4F's from its observer, the Cortex-M0+'s from its window over its words).
+// Frames with other identifiers are counted and ignored. Everything statically allocated; no heap,
+// no exceptions.
 #pragma once
 
 #include <cstddef>

@@ -36,8 +36,9 @@ class SeatModel {
                           can::quantise(can::kSeatForce.signals[1], last.f_f), last.stuck};
   }
   virtual void summarise(SimulationSummary& summary) const = 0;
-  // The observer's window figures as of its last completed block (what the node publishes).
-  virtual ObserverSummary observed() const = 0;
+  // The SeatStats/SeatScene words the node publishes: the window's figures as of its last
+  // completed block, or the whole stream's for a model without a window.
+  virtual can::StatsWords statistics() const = 0;
 };
 
 // The state estimator behind one virtual call per sample, in the run's scalar (double or float:
@@ -68,6 +69,11 @@ ObserverSummary whole_stream_figures(const RunningStatistics<double>& statistics
   o.den_hartog_k = den_hartog_factor(params.kinetic_friction_n, params.mass_kg, o.rms_u_m_per_s2);
   o.window_s = static_cast<double>(samples) * params.dt_s;
   return o;
+}
+
+can::StatsWords stats_words_of(const ObserverSummary& o) {
+  return can::stats_words(o.window_s > 0.0, o.transmissibility, o.stick_probability,
+                          o.den_hartog_k);
 }
 
 template <typename T>
@@ -126,7 +132,7 @@ class SeatModelFor final : public SeatModel {
     return convert(out);
   }
 
-  ObserverSummary observed() const override { return observer_.summary(); }
+  can::StatsWords statistics() const override { return stats_words_of(observer_.summary()); }
 
   SampleOutput step(std::uint16_t a_u_word) override {
     const T input = static_cast<T>(decoded(a_u_word));
@@ -204,8 +210,8 @@ class SeatModelFixed final : public SeatModel {
     summarise_run(summary, statistics_, oscillator_, events_);
     summary.saturated_steps = oscillator_.saturated_steps() + (start_saturated_ ? 1u : 0u);
   }
-  ObserverSummary observed() const override {
-    return whole_stream_figures(statistics_, setup_.params, samples_);
+  can::StatsWords statistics() const override {
+    return stats_words_of(whole_stream_figures(statistics_, setup_.params, samples_));
   }
 
  private:
@@ -230,12 +236,13 @@ std::unique_ptr<SeatModel> make_fixed_model(const SimulationSetup& setup) {
 }
 
 // Q7.24 in scene units: the Cortex-M0+ firmware's seat (can::ScaledSeat, node_seats.hpp), its
-// input and output words by its integer scales, so the node sends the firmware's frames. The
-// trace and statistics in SI (double); T_ax, p and K those of the whole stream so far.
+// input and output words by its integer scales, and T_ax, p and K from its window over those
+// words, so the node sends the firmware's frames. The trace and the run's statistics in SI
+// (double).
 template <typename Seat>
 class SeatModelFixed32 final : public SeatModel {
  public:
-  explicit SeatModelFixed32(const SimulationSetup& setup) : setup_(setup) {
+  explicit SeatModelFixed32(const SimulationSetup& setup) {
     const ConfigResult configured = seat_.configure(setup.params);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
     if (setup.x0_m != 0.0 || setup.v0_m_per_s != 0.0)
@@ -246,14 +253,12 @@ class SeatModelFixed32 final : public SeatModel {
     words_ = seat_.start(a_u_word);
     statistics_.reset();
     events_ = 0;
-    samples_ = 1;
     const SampleOutput out = convert(seat_.last());
     statistics_.add_sample(decoded(a_u_word), out.a_x);
     return out;
   }
   SampleOutput step(std::uint16_t a_u_word) override {
     words_ = seat_.step(a_u_word);
-    ++samples_;
     const StepOutput<Fixed32>& out = seat_.last();
     const SampleOutput converted = convert(out);
     statistics_.add_sample(decoded(a_u_word), converted.a_x);
@@ -266,9 +271,8 @@ class SeatModelFixed32 final : public SeatModel {
     summarise_run(summary, statistics_, seat_.model().oscillator(), events_);
     summary.saturated_steps = seat_.model().oscillator().saturated_steps();
   }
-  ObserverSummary observed() const override {
-    return whole_stream_figures(statistics_, setup_.params, samples_);
-  }
+  // The firmware's window over its words (can::WordWindow).
+  can::StatsWords statistics() const override { return seat_.statistics(); }
 
  private:
   SampleOutput convert(const StepOutput<Fixed32>& out) const {
@@ -277,13 +281,11 @@ class SeatModelFixed32 final : public SeatModel {
             out.a_x_m_per_s2.to_double() * units_.acceleration_m_per_s2(),
             out.friction_n.to_double() * units_.force_n(), out.stuck};
   }
-  SimulationSetup setup_;
   Seat seat_;
   SceneUnits units_;
   can::SeatWords words_;
   RunningStatistics<double> statistics_;
   std::uint64_t events_ = 0;
-  std::uint64_t samples_ = 0;
 };
 
 template <typename Law>
@@ -377,10 +379,7 @@ can::SeatWords HostSeat::step(std::uint16_t a_u_word) {
 }
 
 can::StatsWords HostSeat::statistics() const {
-  // The observer's window (10 s) as of its last completed block.
-  const ObserverSummary running = model->observed();
-  return can::stats_words(running.window_s > 0.0, running.transmissibility,
-                          running.stick_probability, running.den_hartog_k);
+  return model->statistics();
 }
 
 struct EcuNode::Sink {

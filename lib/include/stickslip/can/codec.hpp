@@ -18,6 +18,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 
 #include "stickslip/can/crc8.hpp"
 #include "stickslip/can/frame.hpp"
@@ -158,11 +160,31 @@ inline std::int16_t word_as_signed(std::uint16_t word) noexcept {
                         : static_cast<std::int16_t>(static_cast<int>(word) - 65536);
 }
 
-// 2^n, exactly, for |n| <= 31 (a signal's fraction_bits): a product by it is ldexp(x, n) bit for
-// bit wherever no bit falls below the subnormal range, without the library call.
+// 2^n and 2^-n, exactly, for 0 <= n <= 31 (a signal's fraction_bits), from the exponent field:
+// a product by either is ldexp(x, +-n) bit for bit wherever no bit falls below the subnormal
+// range, without the library call, a division or an integer conversion (each a software
+// routine on a core without an FPU).
+template <typename T>
+T exact_power_of_two(int e) noexcept {
+  static_assert(std::numeric_limits<T>::is_iec559 && (sizeof(T) == 4 || sizeof(T) == 8),
+                "IEEE float or double");
+  T value;
+  if constexpr (sizeof(T) == 4) {
+    const std::uint32_t bits = static_cast<std::uint32_t>(127 + e) << 23;
+    std::memcpy(&value, &bits, sizeof value);
+  } else {
+    const std::uint64_t bits = static_cast<std::uint64_t>(1023 + e) << 52;
+    std::memcpy(&value, &bits, sizeof value);
+  }
+  return value;
+}
 template <typename T>
 T power_of_two(int n) noexcept {
-  return n >= 0 ? T(1u << n) : T(1) / T(1u << -n);
+  return exact_power_of_two<T>(n);
+}
+template <typename T>
+T inverse_power_of_two(int n) noexcept {
+  return exact_power_of_two<T>(-n);
 }
 
 // Physical value -> raw word; see "Scaling and overflow" above. T is float or double.
@@ -171,21 +193,23 @@ Quantised quantise(const SignalSpec& signal, T value) noexcept {
   if (value != value) {
     return {signal.is_signed ? signed_word(kSignedNotAvailable) : kUnsignedNotAvailable, false};
   }
-  // Range checks before scaling, so that no value (infinity, 1e300) can overflow: anything that
-  // would round beyond the largest code saturates.
-  const T max_code = signal.is_signed ? T(kSignedMax) : T(kUnsignedMax);
-  const T scale = power_of_two<T>(signal.fraction_bits);
-  const T upper = (max_code + T(0.5)) / scale;  // exact: a power of two
-  const T lower = signal.is_signed ? -upper : -T(0.5) / scale;
-  if (value >= upper) {
+  // Anything that would round beyond the largest code saturates. Every code's value is below
+  // 2^16 (n >= 0), so a larger magnitude (infinity, 1e300) saturates before it is scaled and
+  // nothing overflows; below it the product by 2^n (n <= 31) is exact, ldexp's value, and is
+  // checked against the codes: one product, where a software product or division costs about a
+  // hundred instructions on a core without an FPU.
+  static_assert(kSignedMax == 32767 && kUnsignedMax == 65534, "the halves above the codes");
+  const T beyond_every_code = T(65536);
+  const T product = value >= beyond_every_code    ? beyond_every_code
+                    : value <= -beyond_every_code ? -beyond_every_code
+                                                  : value * power_of_two<T>(signal.fraction_bits);
+  if (product >= (signal.is_signed ? T(32767.5) : T(65534.5))) {
     return {signal.is_signed ? signed_word(kSignedMax) : kUnsignedMax, true};
   }
-  if (value <= lower) {
+  if (product <= (signal.is_signed ? T(-32767.5) : T(-0.5))) {
     return {signal.is_signed ? signed_word(-kSignedMax) : std::uint16_t{0}, true};
   }
-  // Exact, as ldexp: |value| < `upper`, so the product is below 2^16, and a product by 2^n with
-  // n >= 0 drops no bit.
-  const T scaled = std::round(value * scale);
+  const T scaled = std::round(product);  // |product| < 65534.5: the code
   if (signal.is_signed) return {signed_word(static_cast<std::int16_t>(scaled)), false};
   return {static_cast<std::uint16_t>(scaled), false};
 }
@@ -200,7 +224,7 @@ template <typename T>
 T physical(const SignalSpec& signal, std::uint16_t word) noexcept {
   if (not_available(signal, word)) return T(NAN);
   const T raw = signal.is_signed ? T(word_as_signed(word)) : T(word);
-  return raw / power_of_two<T>(signal.fraction_bits);  // exact
+  return raw * inverse_power_of_two<T>(signal.fraction_bits);  // exact
 }
 
 // Writes the 8 bytes of `message` (CRC included).

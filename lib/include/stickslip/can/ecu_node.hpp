@@ -14,6 +14,7 @@
 //   void sampled(const NodeSample& sample);  // after the frames of each sample
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "stickslip/can/codec.hpp"
@@ -27,8 +28,8 @@ namespace stickslip::can {
 //   full:    SeatMotion and SeatForce every output cycle, SeatStats and SeatScene every stats
 //            cycle;
 //   reduced: SeatMotion and SeatStats only, for 250 and 500 kbit/s buses;
-//   motion:  SeatMotion and SeatForce only, for a node without running statistics (the
-//            Cortex-M0+ firmware: its fixed-point seat has no observer windows to report).
+//   motion:  SeatMotion and SeatForce only, for a node without running statistics or a bus
+//            without room for them.
 enum class OutputSet : std::uint8_t { full, reduced, motion };
 
 // A seat's outputs for one sample as the words SeatMotion and SeatForce carry.
@@ -43,6 +44,23 @@ struct StatsWords {
   Quantised stick_probability{kUnsignedNotAvailable, false};
   Quantised den_hartog_k{kUnsignedNotAvailable, false};
 };
+
+// The window figures T_ax, p and K as the SeatStats/SeatScene words: not available (all ones, as
+// J1939 does) until they are `ready` (a first block has completed), and K also while it is not
+// finite. R: float or double; a float figure gives the word its value in double gives (the
+// scaling is a power of two, exact in both).
+template <typename R>
+StatsWords stats_words(bool ready, R transmissibility, R stick_probability, R k) noexcept {
+  const R not_available = R(NAN);
+  StatsWords words;
+  words.transmissibility =
+      quantise(kSeatStats.signals[0], ready ? transmissibility : not_available);
+  words.stick_probability =
+      quantise(kSeatStats.signals[1], ready ? stick_probability : not_available);
+  words.den_hartog_k =
+      quantise(kSeatScene.signals[0], ready && std::isfinite(k) ? k : not_available);
+  return words;
+}
 
 struct EcuNodeParams {
   CheckerConfig checker;

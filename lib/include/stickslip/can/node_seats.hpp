@@ -9,8 +9,8 @@
 //                           and K, as the host node publishes them (stats_words()).
 //   ScaledSeat<T, Law>:     a 32-bit fixed-point scalar in scene units (models/
 //                           scaled_oscillator.hpp, the Cortex-M0+ build): one integer product and
-//                           a rounding shift per signal (CountScale), no float at all; no running
-//                           statistics.
+//                           a rounding shift per signal (CountScale), no float in the step; T_ax,
+//                           p and K from the block window over its own words (word_window.hpp).
 #pragma once
 
 #include <cmath>
@@ -19,6 +19,7 @@
 
 #include "stickslip/can/codec.hpp"
 #include "stickslip/can/ecu_node.hpp"
+#include "stickslip/can/word_window.hpp"
 #include "stickslip/core/params.hpp"
 #include "stickslip/core/scalar.hpp"
 #include "stickslip/core/status.hpp"
@@ -27,23 +28,6 @@
 #include "stickslip/observer/observer.hpp"
 
 namespace stickslip::can {
-
-// The window figures T_ax, p and K as the SeatStats/SeatScene words: not available (all ones, as
-// J1939 does) until they are `ready` (a first block has completed), and K also while it is not
-// finite. R: float or double; a float figure gives the word its value in double gives (the
-// scaling is a power of two, exact in both).
-template <typename R>
-StatsWords stats_words(bool ready, R transmissibility, R stick_probability, R k) noexcept {
-  const R not_available = R(NAN);
-  StatsWords words;
-  words.transmissibility =
-      quantise(kSeatStats.signals[0], ready ? transmissibility : not_available);
-  words.stick_probability =
-      quantise(kSeatStats.signals[1], ready ? stick_probability : not_available);
-  words.den_hartog_k =
-      quantise(kSeatScene.signals[0], ready && std::isfinite(k) ? k : not_available);
-  return words;
-}
 
 namespace seat_detail {
 
@@ -101,13 +85,14 @@ class OscillatorSeat {
   }
   SeatWords step(std::uint16_t a_u_word) noexcept {
     advance(input(a_u_word));
-    return last_words();
+    return finish_step(a_u_word);
   }
   // The parts of step(), for a caller that puts the model's step in a function of its own (the
   // firmware: its step budget is measured from there): the input, the step, the words.
   STICKSLIP_INLINE_STEP void advance(T a_u) noexcept {
     oscillator_.step(a_u, last_);  // in place: no copy on an interrupt's stack
   }
+  SeatWords finish_step(std::uint16_t /*a_u_word*/) const noexcept { return last_words(); }
   StatsWords statistics() const noexcept { return {}; }
 
   static T input(std::uint16_t word) noexcept { return seat_detail::input<T>(word); }
@@ -156,7 +141,7 @@ class ObserverSeat {
   }
   SeatWords step(std::uint16_t a_u_word) noexcept {
     advance(input(a_u_word));
-    return last_words();
+    return finish_step(a_u_word);
   }
   // The parts of step(), for a caller that puts the seat's step in a function of its own (the
   // firmware): the input, the observer's update, the words. The statistics words are quantised
@@ -165,6 +150,7 @@ class ObserverSeat {
     observer_.update(a_u);
     if (observer_.completed_blocks() != blocks_) note_window();
   }
+  SeatWords finish_step(std::uint16_t /*a_u_word*/) const noexcept { return last_words(); }
   StatsWords statistics() const noexcept { return stats_; }
 
   static T input(std::uint16_t word) noexcept { return seat_detail::input<T>(word); }
@@ -210,7 +196,20 @@ class ScaledSeat {
       failed = "SeatForce.v_r";
     else if (!f_f_.set_scalar_to_count(u.force_n() / per_bit(kSeatForce.signals[1])))
       failed = "SeatForce.f_f";
-    if (failed == nullptr) return result;
+    if (failed == nullptr) {
+      // The observer's block length for this seat (Observer::configure()'s rule).
+      const double per_block =
+          std::round(seat_observer_params(si).window_s / (si.dt_s * double(kSeatWindowBlocks)));
+      if (!(per_block * double(kSeatWindowBlocks) <= 4.0e9)) {
+        result = refusal(Status::out_of_range);
+        result.message.append("the statistics window exceeds 4e9 samples (dt_s = ")
+            .append(si.dt_s)
+            .append(" s)");
+        return result;
+      }
+      window_.configure(static_cast<std::uint32_t>(per_block), si.kinetic_friction_n, si.mass_kg);
+      return result;
+    }
     result = refusal(Status::out_of_range);
     result.message.append(failed)
         .append(": the scene unit is out of the word scale's reach (length L = ")
@@ -222,18 +221,29 @@ class ScaledSeat {
   SeatWords start(std::uint16_t a_u_word) noexcept {
     model_.oscillator().reset(T(0), T(0), input(a_u_word));
     last_ = model_.oscillator().current();
+    window_.reset();  // as the observer's: the steps after the first sample
     return words(last_);
   }
   SeatWords step(std::uint16_t a_u_word) noexcept {
     advance(input(a_u_word));
-    return words(last_);
+    return finish_step(a_u_word);
   }
   // The parts of step(), for a caller that puts the model's step in a function of its own (the
-  // firmware: its step budget is measured from there): the input, the step, the words.
+  // firmware: its step budget is measured from there): the input, the step, then the words, which
+  // also go into the statistics window (outside the step's budget).
   STICKSLIP_INLINE_STEP void advance(T a_u_scaled) noexcept {
     model_.step(a_u_scaled, last_);  // in place: no copy on an interrupt's stack
   }
-  StatsWords statistics() const noexcept { return {}; }
+  SeatWords finish_step(std::uint16_t a_u_word) noexcept {
+    const SeatWords w = words(last_);
+    const std::int32_t stuck = last_.stuck_fraction.raw();  // Q.24 in [0, 1]
+    static_assert(T::kFractionBits == 24, "the window takes the stuck fraction in Q.24");
+    window_.add(word_as_signed(a_u_word), word_as_signed(w.a_x.word),
+                stuck > 0 ? static_cast<std::uint32_t>(stuck) : 0u);
+    return w;
+  }
+  // T_ax, p and K of the window over this seat's words, as of its last published block.
+  StatsWords statistics() const noexcept { return window_.words(); }
 
   T input(std::uint16_t word) const noexcept { return input_.to_scalar(word_as_signed(word)); }
   SeatWords last_words() const noexcept { return words(last_); }
@@ -264,6 +274,7 @@ class ScaledSeat {
   ScaledOscillator<T, Law> model_;
   StepOutput<T> last_{};
   CountScale<T> input_, a_x_, x_r_, v_r_, f_f_;
+  WordWindow<kSeatWindowBlocks> window_;
 };
 
 }  // namespace stickslip::can

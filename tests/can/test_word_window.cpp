@@ -44,8 +44,7 @@ Oracle oracle(const std::vector<Sample>& samples, std::size_t end, std::size_t p
   }
   const long double count = end - begin;
   const long double unit_k = den_hartog_factor(kFfk, kMass, 1.0);
-  return {std::sqrt(x / u), stuck / count / 16777216.0L,
-          unit_k / (std::sqrt(u / count) / 1024.0L)};
+  return {std::sqrt(x / u), stuck / count / 16777216.0L, unit_k / (std::sqrt(u / count) / 1024.0L)};
 }
 
 // The window's word is the oracle's value rounded to nearest, halves up: exactly, wherever the
@@ -172,8 +171,8 @@ TEST(WordWindow, BlocksShorterThanItsStagesPublishTheNewestWindowEveryKStagesSam
     ++published;
     const Oracle o = oracle(samples, window_end, per_block);
     window_end = (given - 1) / per_block * per_block;
-    check_word(can::kSeatStats.signals[0], window.words().transmissibility.word,
-               o.transmissibility, 1e-12L, near_halves);
+    check_word(can::kSeatStats.signals[0], window.words().transmissibility.word, o.transmissibility,
+               1e-12L, near_halves);
     check_word(can::kSeatStats.signals[1], window.words().stick_probability.word,
                o.stick_probability, 1e-12L, near_halves);
   }

@@ -227,8 +227,8 @@ class WordWindow {
         const int f = kSeatStats.signals[0].fraction_bits;
         pending_.transmissibility =
             figured_.u_sq == 0u ? Quantised{0, false}
-                               : word_of_quarter(divide_scaled(figured_.x_sq, figured_.u_sq,
-                                                               2 * f + 2, kSaturatedQuarter));
+                                : word_of_quarter(divide_scaled(figured_.x_sq, figured_.u_sq,
+                                                                2 * f + 2, kSaturatedQuarter));
         break;
       }
       case 2: {
@@ -285,8 +285,8 @@ class WordWindow {
   Sums figured_{};  // the window as the running stages figure it
   std::uint32_t samples_per_block_ = 1;
   std::size_t next_ = 0;
-  std::size_t filled_ = 0;  // blocks written since reset(), up to kBlocks
-  unsigned stage_ = 0;  // 0: idle; else the stage the next sample runs
+  std::size_t filled_ = 0;    // blocks written since reset(), up to kBlocks
+  unsigned stage_ = 0;        // 0: idle; else the stage the next sample runs
   bool newer_block_ = false;  // a block completed while the stages ran
   std::uint32_t unit_k_squared_mantissa_ = 0;
   int unit_k_squared_exponent_ = 0;

@@ -8,7 +8,9 @@
 #include <vector>
 
 #include "stickslip/can/codec.hpp"
+#include "stickslip/can/node_seats.hpp"
 #include "stickslip/can/word_window.hpp"
+#include "stickslip/core/fixed_point32.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
@@ -236,4 +238,26 @@ TEST(WordWindow, SquareRootIsTheExactFloorBelow2To36) {
   }
   check((std::uint64_t{1} << 36) - 1);
   LONGS_EQUAL(0, mismatched);
+}
+
+TEST(WordWindow, ScaledSeatRefusesASampleRateWhoseWindowWouldNotFitItsCounters) {
+  // A window below 2^32 samples keeps every sum exact in 64 bits; a seat of 1 mg on 1 GN/m fits
+  // Q7.24's scene units at dt = 3 ns (3.3e9 samples in 10 s) but not at 2 ns (5e9).
+  OscillatorParams p;
+  p.model = FrictionModel::linear;
+  p.mass_kg = 1e-6;
+  p.stiffness_n_per_m = 1e9;
+  p.damping_ns_per_m = 0.0;
+  p.kinetic_friction_n = p.static_friction_n = 0.0;
+  p.integrator = Integrator::exact;
+  p.input_range_m_per_s2 = 32.768;
+  p.displacement_range_m = 1e-6;
+  p.dt_s = 3e-9;
+  can::ScaledSeat<Fixed32, NoFriction> seat;
+  CHECK_TRUE(seat.configure(p).ok());
+  p.dt_s = 2e-9;
+  const ConfigResult refused = seat.configure(p);
+  CHECK(refused.status == Status::out_of_range);
+  STRCMP_CONTAINS("dt_s: the statistics window (10 s) would hold over 4e9 samples",
+                  refused.message.c_str());
 }

@@ -202,9 +202,10 @@ class ScaledSeat {
           std::round(seat_observer_params(si).window_s / (si.dt_s * double(kSeatWindowBlocks)));
       if (!(per_block * double(kSeatWindowBlocks) <= 4.0e9)) {
         result = refusal(Status::out_of_range);
-        result.message.append("the statistics window exceeds 4e9 samples (dt_s = ")
+        result.message
+            .append("dt_s: the statistics window (10 s) would hold over 4e9 samples, got ")
             .append(si.dt_s)
-            .append(" s)");
+            .append(" s");
         return result;
       }
       window_.configure(static_cast<std::uint32_t>(per_block), si.kinetic_friction_n, si.mass_kg);

@@ -16,9 +16,9 @@
 // sums gain it and lose the oldest (exact). The next kStages samples each run one stage: (1) T_ax,
 // (2) p, (3) K, after which the three words are published together (a SeatStats frame never
 // mixes two windows). A stage is one long division of at most kMaxQuotientBits + 1 quotient bits
-// and at most one square root of kRootBits bits, shift-and-subtract in 64-bit words (about a
-// thousand ARMv6-M instructions), where the whole would land on one frame; no software float,
-// so every loop has the trip count stated here.
+// and at most one square root of kRootBits bits, shift-and-subtract in 64-bit words (up to about
+// 2,300 ARMv6-M instructions, docs/EMBEDDED.md), where the whole would land on one frame; no
+// software float, so every loop has the trip count stated here (port/baremetal/loop-bounds.json).
 #pragma once
 
 #include <cmath>

@@ -223,6 +223,31 @@ TEST(WordWindow, DivisionGivesTheExactScaledQuotientOrTheCap) {
   CHECK(capped > 1000 && capped < compared - 1000);
 }
 
+TEST(WordWindow, DivisionRunsAtMostItsStatedRoundsAndTheWorstQuotientReachesThem) {
+  // The loop bound kMaxQuotientBits + 1 (port/baremetal/loop-bounds.json): never exceeded over
+  // random operands, and reached where k + f = kMaxQuotientBits (the largest quotient formed bit
+  // by bit rather than capped at once).
+  using can::word_window_detail::divide_scaled;
+  using can::word_window_detail::kMaxQuotientBits;
+  const std::uint64_t cap = std::uint64_t{1} << 40;
+  std::mt19937_64 random(17);
+  int most = 0;
+  for (int n = 0; n < 300000; ++n) {
+    const std::uint64_t a = random() >> (random() % 64);
+    const std::uint64_t b = (random() >> (1 + random() % 63)) | 1u;
+    int rounds = 0;
+    divide_scaled(a, b, static_cast<int>(random() % 80), cap, &rounds);
+    if (rounds > most) most = rounds;
+  }
+  CHECK(most <= kMaxQuotientBits + 1);
+  // k = bit_length(a) - bit_length(b) = 20 and f = 20: k + f - 1 < kMaxQuotientBits, 41 rounds,
+  // and the quotient (about 2^40.99) is still formed bit by bit before it is capped.
+  int rounds = 0;
+  const std::uint64_t a = (std::uint64_t{1} << 40) - 1, b = (std::uint64_t{1} << 20) - 1;
+  divide_scaled(a, b, kMaxQuotientBits - 20, cap, &rounds);
+  LONGS_EQUAL(kMaxQuotientBits + 1, rounds);
+}
+
 TEST(WordWindow, SquareRootIsTheExactFloorBelow2To36) {
   using can::word_window_detail::square_root;
   std::mt19937_64 random(13);

@@ -55,8 +55,9 @@ inline int bit_length(std::uint64_t v) noexcept {
 // floor(a 2^f / b), or `cap` where that is >= cap, for 0 < b < 2^63, f >= 0 and cap <= 2^40:
 // restoring division, one quotient bit per round from the quotient's top, at most
 // kMaxQuotientBits + 1 rounds (a quotient that would need more is above cap before any is formed).
-inline std::uint64_t divide_scaled(std::uint64_t a, std::uint64_t b, int f,
-                                   std::uint64_t cap) noexcept {
+// `rounds_run`, where given, receives the rounds the loop runs (for the test of its bound).
+inline std::uint64_t divide_scaled(std::uint64_t a, std::uint64_t b, int f, std::uint64_t cap,
+                                   int* rounds_run = nullptr) noexcept {
   if (a == 0u) return 0u;
   // 2^(k-1) < a / b < 2^(k+1): the quotient is above 2^(k+f-1) and has at most k + 1 + f bits.
   const int k = bit_length(a) - bit_length(b);
@@ -75,6 +76,7 @@ inline std::uint64_t divide_scaled(std::uint64_t a, std::uint64_t b, int f,
     r = a << zeros;
     rounds = f - zeros;
   }
+  if (rounds_run != nullptr) *rounds_run = rounds;
   std::uint64_t q = 0;
   for (int round = 0; round < rounds; ++round) {
     r = (r << 1) | (rest >> 63);  // r < b < 2^63: no bit lost

@@ -22,6 +22,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "stickslip/core/params.hpp"
 #include "stickslip/core/scalar.hpp"
@@ -39,6 +40,15 @@ namespace stickslip {
 template <typename T, std::size_t N>
 class StickSlipBatch;
 
+namespace law_detail {
+// A law's declared event budget, or 0 where it declares none.
+template <typename Law, typename = void>
+inline constexpr int kDeclaredEventBudget = 0;
+template <typename Law>
+inline constexpr int kDeclaredEventBudget<Law, std::void_t<decltype(Law::kEventBudget)>> =
+    Law::kEventBudget;
+}  // namespace law_detail
+
 template <typename T, typename Law>
 class Oscillator {
   using S = ScalarTraits<T>;
@@ -51,10 +61,16 @@ class Oscillator {
   // accepts (step_common.hpp); Stribeck, whose slip force follows v_r, keeps the safety limit.
   // At the budget the step finishes in its mode; a step where that lost an event (stuck to the
   // end with |F_L| beyond F_fs, or slipping to the end with v_r against its direction) is counted
-  // in event_budget_exhausted(), which by the bound only rounding could reach.
-  static constexpr int kEventBudget = Law::kind == LawKind::sticking && Law::velocity_dependent
+  // in event_budget_exhausted(), which by the bound only rounding could reach. A law may declare
+  // a smaller budget (`static constexpr int kEventBudget`, 1 or more), for an integrator whose
+  // frame cannot afford the bound's events: its steps then lose events, and count them.
+  static constexpr int kEventBudget = law_detail::kDeclaredEventBudget<Law> > 0
+                                          ? law_detail::kDeclaredEventBudget<Law>
+                                      : Law::kind == LawKind::sticking&& Law::velocity_dependent
                                           ? kMaxEventsPerStep
                                           : kMaxEventsOfTheExactSolutionPerStep;
+  static_assert(kEventBudget >= 1 && kEventBudget <= kMaxEventsPerStep,
+                "a law's declared event budget must be 1 to kMaxEventsPerStep");
   // Q7.24 runs in scene units only (models/scaled_oscillator.hpp), where m = 1 and dt = 1
   // exactly and the step is one tick (configure() requires them): its products by these are
   // exact and skipped (by_unit()), about 40 instructions each on the Cortex-M0+.

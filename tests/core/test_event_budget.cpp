@@ -45,9 +45,9 @@ bool beyond_static_friction(const OscillatorParams& p, double x_r, double a_u, d
 
 template <typename T>
 bool same_bits(const StepOutput<T>& a, const StepOutput<T>& b) {
-  return a.x_r_m == b.x_r_m && a.v_r_m_per_s == b.v_r_m_per_s &&
-         a.a_x_m_per_s2 == b.a_x_m_per_s2 && a.friction_n == b.friction_n &&
-         a.stuck_fraction == b.stuck_fraction && a.stuck == b.stuck && a.events == b.events;
+  return a.x_r_m == b.x_r_m && a.v_r_m_per_s == b.v_r_m_per_s && a.a_x_m_per_s2 == b.a_x_m_per_s2 &&
+         a.friction_n == b.friction_n && a.stuck_fraction == b.stuck_fraction &&
+         a.stuck == b.stuck && a.events == b.events;
 }
 
 // The hostile input of StickSlip.NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound:
@@ -67,8 +67,8 @@ void check_budget(const OscillatorParams& p, std::uint64_t seed, BudgetTally& ta
   for (int n = 0; n < 20000; ++n) {
     const auto s = full.state();
     full.restore(s);
-    cut.restore({s.x_r_m, s.v_r_m_per_s, s.a_u_previous, s.direction, s.held_force_n,
-                 s.reported_force_n});
+    cut.restore(
+        {s.x_r_m, s.v_r_m_per_s, s.a_u_previous, s.direction, s.held_force_n, s.reported_force_n});
     const double centre = -p.stiffness_n_per_m * static_cast<double>(s.x_r_m) / p.mass_kg;
     const T a_u = static_cast<T>(centre + swing * random.uniform(-1.0, 1.0));
     const T f_a =
@@ -108,8 +108,8 @@ void check_budget(const OscillatorParams& p, std::uint64_t seed, BudgetTally& ta
       // Finished stuck: at rest, holding the load to the step's end.
       CHECK_TEXT(v_r == 0.0 && got.stuck_fraction > T(0), text("stuck end").asCharString());
       bool borderline = false;
-      lost = beyond_static_friction<T>(p, x_r, static_cast<double>(a_u),
-                                       static_cast<double>(f_a), borderline);
+      lost = beyond_static_friction<T>(p, x_r, static_cast<double>(a_u), static_cast<double>(f_a),
+                                       borderline);
       if (borderline) {
         ++borderline_steps;
         continue;
@@ -127,8 +127,8 @@ void check_budget(const OscillatorParams& p, std::uint64_t seed, BudgetTally& ta
       lost = v_r * direction < 0.0;
       if (counted) ++tally.counted_slipping;
     }
-    CHECK_TEXT(counted == lost, text(lost ? "a lost event not counted" : "counted, nothing lost")
-                                    .asCharString());
+    CHECK_TEXT(counted == lost,
+               text(lost ? "a lost event not counted" : "counted, nothing lost").asCharString());
     if (counted) ++tally.counted;
   }
   // Within the margin (the seat's rounding of F_L, whose terms reach k |x_r| ~ 4 kN in these
@@ -152,8 +152,7 @@ BudgetTally run_law(FrictionModel model, double static_over_kinetic) {
     const double omega0 = std::sqrt(p.stiffness_n_per_m / p.mass_kg);
     for (const double dt : {1e-3, 5e-2, 0.5 * test::kPi / omega0}) {
       p.dt_s = dt;
-      check_budget<T, Law, kBudget>(p, static_cast<std::uint64_t>(1e4 * dt + damping) + 11u,
-                                    tally);
+      check_budget<T, Law, kBudget>(p, static_cast<std::uint64_t>(1e4 * dt + damping) + 11u, tally);
     }
   }
   return tally;

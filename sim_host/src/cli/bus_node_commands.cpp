@@ -45,7 +45,7 @@ struct NodeOptions {
         .add_option("--outputs", outputs,
                     "full (SeatMotion, SeatForce, SeatStats, SeatScene), reduced (SeatMotion, "
                     "SeatStats: fits 250 and 500 kbit/s buses; docs/CAN.md) or motion "
-                    "(SeatMotion, SeatForce: what the Cortex-M firmware publishes)")
+                    "(SeatMotion, SeatForce only: a node without running statistics)")
         ->capture_default_str();
   }
 

@@ -10,7 +10,9 @@
 // coefficients padded by zeros to a fixed degree.
 #pragma once
 
+#include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "stickslip/core/scalar.hpp"
 
@@ -126,13 +128,15 @@ struct PaddedPolynomial {
     return d;
   }
 
- private:
-  // sqrt of the smallest normal number, rounded up to a power of two.
+  // sqrt of the smallest normal number, rounded up to a power of two: a product of two numbers
+  // at least this large is a normal number.
   static constexpr T square_floor() noexcept {
     T floor = T(1);
     for (int e = 0; e > std::numeric_limits<T>::min_exponent / 2; --e) floor *= T(0.5);
     return floor;
   }
+
+ private:
   static T square(T a) noexcept { return ScalarTraits<T>::abs(a) < square_floor() ? T(0) : a * a; }
 };
 
@@ -211,7 +215,7 @@ class TaylorSegment {
     using S = ScalarTraits<T>;
     const T tolerance = T(4) * S::epsilon() * (S::abs(lo) + S::abs(hi));
     const T inv_tolerance = tolerance > T(0) ? T(1) / tolerance : T(0);
-    T u = lo + (hi - lo) * (at_lo / (at_lo - at_hi));
+    T u = first_iterate(slope, curvature, sign, lo, hi, at_lo, at_hi);
     for (int iteration = 0; iteration < kMaxRootIterations; ++iteration) {
       const T value = sign * p(u);
       const T gradient = sign * slope(u);
@@ -239,6 +243,43 @@ class TaylorSegment {
       if (hi - lo <= tolerance) break;
     }
     return u;
+  }
+
+  // The search's first iterate: where f's quadratic Taylor polynomial about lo falls through
+  // zero, if it does inside the bracket, else the secant through the ends. Where a slip starts
+  // or v_r turns, f is dominated by its curvature (a tiny f(lo) and f'(lo), a large f''): the
+  // secant then lands far short of the root, Newton's steps from there leave the bracket, and the
+  // search bisects its way to the root: up to 17 iterations in float on a minute of the
+  // Cortex-M4F's hardest input set (docs/EMBEDDED.md), and 2 at most from the quadratic's root.
+  static T first_iterate(const PaddedPolynomial<T>& slope, const PaddedPolynomial<T>* curvature,
+                         T sign, T lo, T hi, T at_lo, T at_hi) noexcept {
+    const T secant = lo + (hi - lo) * (at_lo / (at_lo - at_hi));
+    if constexpr (std::is_floating_point_v<T>) {
+      if (curvature == nullptr) return secant;
+      using S = ScalarTraits<T>;
+      // f(lo) + b s + a s^2 with s = u - lo, f(lo) = at_lo > 0. Operands below the square floor
+      // are taken as 0 (c: the secant), so that every product is a normal number or exactly 0
+      // and no underflow is raised; the root from its stable form 2 c / (sqrt(D) - b).
+      const T floor = PaddedPolynomial<T>::square_floor();
+      const T c = at_lo;
+      if (!(c >= floor)) return secant;
+      T b = sign * (lo == T(0) ? slope.c[0] : slope(lo));
+      const T curve = sign * (lo == T(0) ? curvature->c[0] : (*curvature)(lo));
+      if (S::abs(b) < floor) b = T(0);
+      const T a = S::abs(curve) < floor ? T(0) : T(0.5) * curve;  // >= floor / 2 or 0
+      const T discriminant = b * b - (T(4) * a) * c;
+      if (!(discriminant >= T(0))) return secant;
+      const T denominator = std::sqrt(discriminant) - b;
+      // At least the floor: the quotient stays finite (c is a velocity, far below 2^60).
+      if (!(denominator >= floor)) return secant;
+      const T u = lo + (c + c) / denominator;
+      return u > lo && u < hi ? u : secant;
+    } else {
+      (void)slope;
+      (void)curvature;
+      (void)sign;
+      return secant;
+    }
   }
 
   PaddedPolynomial<T> x_;  // degree order + 1

@@ -92,17 +92,20 @@ class CubicSegment {
   // The root in (0, hi) of f = p d, given f(0) = at_lo > 0 > f(hi) = at_hi. It starts at the
   // root of c0 + c1 u + (c2 + c3 hi) u^2, f with its cubic term taken at the bracket's end, from
   // the exact discriminant (ScalarTraits::falling_quadratic_root()), or the secant where that has
-  // none in the bracket, and takes kCubicRootNewtonSteps Newton steps on f. The bracket closes on
-  // each value found, and a step that would leave it is replaced by the bracket's midpoint (no
-  // proportion: the bound on the step's work charges every branch): the search never leaves
-  // (lo, hi).
+  // none in the bracket, and takes up to kCubicRootNewtonSteps Newton steps on f. It stops where
+  // |f| is at most one unit of the last place: f's evaluation (three rounded products, |u| <= 1)
+  // is itself uncertain by up to 1.5 units there, so a Newton step could only move u within the
+  // band where f is zero to rounding (in scene units the slope is small, and such a step moves u
+  // by thousands of units). The bracket closes on each value found, and a step that would leave it
+  // is replaced by the bracket's midpoint (no proportion: the bound on the step's work charges
+  // every branch): the search never leaves (lo, hi).
   STICKSLIP_COMPACT_INLINE static T falling_root(Cubic<T> p, T d, T at_lo, T hi, T at_hi) noexcept {
     T lo = T(0);
     T u = S::falling_quadratic_root(along(d, p.c[2] + p.c[3] * hi), along(d, p.c[1]), at_lo);
     if (!(u > lo && u < hi)) u = hi * S::proportion(at_lo, at_lo - at_hi);
     for (int step = 0; step < kCubicRootNewtonSteps; ++step) {
       const T value = along(d, p(u));
-      if (value == T(0)) return u;
+      if (S::abs(value) <= S::epsilon()) return u;
       if (value > T(0)) {
         lo = u;
       } else {

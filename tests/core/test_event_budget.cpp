@@ -7,6 +7,7 @@
 // shows the lost event (stuck with |F_L| beyond F_fs, or v_r against the slip's direction).
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 
 #include "CppUTest/TestHarness.h"
@@ -167,37 +168,35 @@ void check_reached(const BudgetTally& t, const char* what) {
   test::note_margin(what, static_cast<double>(t.counted), static_cast<double>(t.steps_over_budget));
 }
 
+// A sticking law's runs: each reaches every branch, and together they cut steps short at both
+// ends: stuck with a break-away lost, and slipping with a stop or reversal lost.
+void check_sticking_law(std::initializer_list<BudgetTally> runs, const char* what) {
+  long counted_stuck = 0, counted_slipping = 0;
+  for (const BudgetTally& t : runs) {
+    check_reached(t, what);
+    counted_stuck += t.counted_stuck;
+    counted_slipping += t.counted_slipping;
+  }
+  CHECK_TEXT(counted_stuck > 0, what);
+  CHECK_TEXT(counted_slipping > 0, what);
+}
+
 }  // namespace
 
 TEST_GROUP(EventBudget){};
 
 TEST(EventBudget, StickSlipAtItsBudgetFinishesInItsModeAndCountsExactlyTheStepsThatLostAnEvent) {
-  long counted_stuck = 0, counted_slipping = 0;
-  for (const BudgetTally& t :
-       {run_law<double, CoulombStickSlip, 1>(FrictionModel::stick_slip, 1.3),
-        run_law<double, CoulombStickSlip, 2>(FrictionModel::stick_slip, 1.3),
-        run_law<float, CoulombStickSlip, 1>(FrictionModel::stick_slip, 1.3),
-        run_law<float, CoulombStickSlip, 2>(FrictionModel::stick_slip, 1.3)}) {
-    check_reached(t, "stick-slip (double, float; budget 1, 2): counted of steps over it");
-    counted_stuck += t.counted_stuck;
-    counted_slipping += t.counted_slipping;
-  }
-  // Both ends of a step cut short occur: stuck with a break-away lost, slipping with a stop lost.
-  CHECK(counted_stuck > 0);
-  CHECK(counted_slipping > 0);
+  check_sticking_law({run_law<double, CoulombStickSlip, 1>(FrictionModel::stick_slip, 1.3),
+                      run_law<double, CoulombStickSlip, 2>(FrictionModel::stick_slip, 1.3),
+                      run_law<float, CoulombStickSlip, 1>(FrictionModel::stick_slip, 1.3),
+                      run_law<float, CoulombStickSlip, 2>(FrictionModel::stick_slip, 1.3)},
+                     "stick-slip (double, float; budget 1, 2): counted of steps over it");
 }
 
 TEST(EventBudget, StribeckAtItsBudgetFinishesInItsModeAndCountsExactlyTheStepsThatLostAnEvent) {
-  long counted_stuck = 0, counted_slipping = 0;
-  for (const BudgetTally& t :
-       {run_law<double, StribeckStickSlip, 1>(FrictionModel::stribeck, 1.3),
-        run_law<float, StribeckStickSlip, 1>(FrictionModel::stribeck, 1.3)}) {
-    check_reached(t, "Stribeck (double, float; budget 1): counted of steps over it");
-    counted_stuck += t.counted_stuck;
-    counted_slipping += t.counted_slipping;
-  }
-  CHECK(counted_stuck > 0);
-  CHECK(counted_slipping > 0);
+  check_sticking_law({run_law<double, StribeckStickSlip, 1>(FrictionModel::stribeck, 1.3),
+                      run_law<float, StribeckStickSlip, 1>(FrictionModel::stribeck, 1.3)},
+                     "Stribeck (double, float; budget 1): counted of steps over it");
 }
 
 TEST(EventBudget, HeldSignumAtItsBudgetSlipsToTheEndAndCountsExactlyTheStepsThatLostAnEvent) {

@@ -47,6 +47,11 @@ inline constexpr int kDeclaredEventBudget = 0;
 template <typename Law>
 inline constexpr int kDeclaredEventBudget<Law, std::void_t<decltype(Law::kEventBudget)>> =
     Law::kEventBudget;
+// The law's declared budget if it declares one, else `bound`.
+template <typename Law>
+constexpr int event_budget(int bound) noexcept {
+  return kDeclaredEventBudget<Law> > 0 ? kDeclaredEventBudget<Law> : bound;
+}
 }  // namespace law_detail
 
 template <typename T, typename Law>
@@ -64,11 +69,10 @@ class Oscillator {
   // in event_budget_exhausted(), which by the bound only rounding could reach. A law may declare
   // a smaller budget (`static constexpr int kEventBudget`, 1 or more), for an integrator whose
   // frame cannot afford the bound's events: its steps then lose events, and count them.
-  static constexpr int kEventBudget = law_detail::kDeclaredEventBudget<Law> > 0
-                                          ? law_detail::kDeclaredEventBudget<Law>
-                                      : Law::kind == LawKind::sticking&& Law::velocity_dependent
-                                          ? kMaxEventsPerStep
-                                          : kMaxEventsOfTheExactSolutionPerStep;
+  static constexpr int kEventBudget =
+      law_detail::event_budget<Law>(Law::kind == LawKind::sticking && Law::velocity_dependent
+                                        ? kMaxEventsPerStep
+                                        : kMaxEventsOfTheExactSolutionPerStep);
   static_assert(kEventBudget >= 1 && kEventBudget <= kMaxEventsPerStep,
                 "a law's declared event budget must be 1 to kMaxEventsPerStep");
   // Q7.24 runs in scene units only (models/scaled_oscillator.hpp), where m = 1 and dt = 1

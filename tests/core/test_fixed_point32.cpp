@@ -310,6 +310,43 @@ TEST(FixedPoint32Arithmetic, CountScaleConvertsWithinTheFactorsPrecision) {
   CHECK_TRUE(take_fixed_point_saturation());
 }
 
+// The conversion rounds the product by its stored factor (24 significant bits, 2^-shift) to
+// nearest, ties away from zero, at every shift it accepts (1 to 62, both halves of a 64-bit
+// word): against the exact product in 128 bits, with the factor formed as its documentation says.
+TEST(FixedPoint32Arithmetic, CountScaleRoundsTheProductByItsStoredFactorToNearestAtEveryShift) {
+  __extension__ typedef __int128 I128;
+  test::SplitMix64 random(29);
+  long checked = 0;
+  for (int shift = 1; shift <= 62; ++shift) {
+    for (int trial = 0; trial < 40; ++trial) {
+      // scalar -> count: factor = mantissa 2^exponent with shift = 48 - exponent.
+      const double mantissa = random.uniform(0.5, 1.0);
+      const double factor = std::ldexp(mantissa, 48 - shift);
+      CountScale<Fixed32> scale;
+      CHECK_TRUE(scale.set_scalar_to_count(factor));
+      const auto multiplier = static_cast<std::int64_t>(std::ldexp(mantissa, 24) + 0.5);
+      for (int sample = 0; sample < 50; ++sample) {
+        // Raw values of every size, small ones often (ties and the rounding carry).
+        const int bits = static_cast<int>(random.uniform(0.0, 31.0));
+        auto raw = static_cast<std::int32_t>(random.uniform(-1.0, 1.0) * std::ldexp(1.0, bits));
+        if (sample == 0) raw = kMax32;
+        if (sample == 1) raw = -kMax32;
+        const I128 product = static_cast<I128>(raw < 0 ? -std::int64_t{raw} : raw) * multiplier;
+        const I128 rounded = (product + (static_cast<I128>(1) << (shift - 1))) >> shift;
+        const I128 clamped = rounded > INT32_MAX ? INT32_MAX : rounded;
+        const auto expected = static_cast<std::int32_t>(raw < 0 ? -clamped : clamped);
+        const std::int32_t got = scale.to_count(Fixed32::from_raw(raw), INT32_MAX);
+        CHECK_TEXT(got == expected, StringFromFormat("shift %d raw %ld: %ld, expected %ld", shift,
+                                                     static_cast<long>(raw), static_cast<long>(got),
+                                                     static_cast<long>(expected))
+                                        .asCharString());
+        ++checked;
+      }
+    }
+  }
+  CHECK(checked == 62 * 40 * 50);
+}
+
 TEST_GROUP(ScaledFixedPoint32Oscillator){void setup() override{(void)take_fixed_point_saturation();
 }
 }

@@ -112,6 +112,7 @@ class CountScale {
     // round(mantissa 2^24) is in [2^23, 2^24]: fits int32 with the product below 2^63.
     multiplier_ = static_cast<std::int32_t>(std::ldexp(mantissa, 24) + 0.5);
     shift_ = shift;
+    half_ = std::uint64_t{1} << (shift - 1);
     return true;
   }
   // round(v multiplier / 2^shift), ties away from zero.
@@ -121,9 +122,16 @@ class CountScale {
     const auto magnitude = fixed_point_detail::multiply_32x32(
         static_cast<std::uint32_t>(v < 0 ? -std::int64_t{v} : std::int64_t{v}),
         static_cast<std::uint32_t>(multiplier_));
-    const auto q =
-        static_cast<std::int64_t>((magnitude + (std::uint64_t{1} << (shift_ - 1))) >> shift_);
+    const auto q = static_cast<std::int64_t>(shift_right(magnitude + half_, shift_));
     return v < 0 ? -q : q;
+  }
+  // a >> shift for shift in [1, 62] in 32-bit halves: a 64-bit shift by a variable amount is a
+  // library call on ARMv6-M (two per conversion, five conversions per sample on the Cortex-M0+).
+  static std::uint64_t shift_right(std::uint64_t a, int shift) noexcept {
+    const auto high = static_cast<std::uint32_t>(a >> 32);
+    const auto low = static_cast<std::uint32_t>(a);
+    if (shift >= 32) return high >> (shift - 32);
+    return (std::uint64_t{high >> shift} << 32) | (low >> shift) | (high << (32 - shift));
   }
   static typename T::Raw saturate(std::int64_t v) noexcept {
     using Raw = typename T::Raw;
@@ -137,6 +145,7 @@ class CountScale {
   }
   std::int32_t multiplier_ = 0;
   int shift_ = 1;
+  std::uint64_t half_ = 1;  // 2^(shift_ - 1): rounds to nearest
 };
 
 template <typename T, typename Law>

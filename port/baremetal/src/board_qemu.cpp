@@ -116,7 +116,7 @@ extern "C" void board_start() {
 
 extern "C" bool board_can_read(stickslip::can::Frame* frame) {
   if (!has_pending) return false;
-  *frame = pending;
+  read_mailbox(*frame, pending);
   has_pending = false;
   return true;
 }

@@ -41,7 +41,7 @@ bool stepped = false;  // the node stepped the seat for the frame being delivere
 extern "C" void board_start() {}
 extern "C" bool board_can_read(stickslip::can::Frame* frame) {
   if (!has_pending) return false;
-  *frame = pending;
+  read_mailbox(*frame, pending);
   has_pending = false;
   return true;
 }

@@ -11,10 +11,37 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "node.hpp"
 
 inline constexpr std::size_t kFrameRecordBytes = 16;
+
+// Moves a classic frame's 8 data bytes as four halfwords, as a CAN controller's mailbox takes
+// them: a byte loop costs about 90 ARMv6-M instructions a frame, and ARMv6-M has no unaligned
+// word access. Both ends are 2-aligned (Frame::data; a record's data at byte 8).
+inline void copy_classic_data(std::uint8_t* to, const std::uint8_t* from) noexcept {
+  static_assert(
+      offsetof(stickslip::can::Frame, data) % 2 == 0 && alignof(stickslip::can::Frame) % 2 == 0,
+      "Frame::data starts on a halfword");
+  auto* const to_halfwords = static_cast<std::uint8_t*>(__builtin_assume_aligned(to, 2));
+  const auto* const from_halfwords =
+      static_cast<const std::uint8_t*>(__builtin_assume_aligned(from, 2));
+  for (int i = 0; i < stickslip::can::kClassicMaxLength; i += 2) {
+    std::uint16_t halfword = 0;
+    std::memcpy(&halfword, from_halfwords + i, sizeof halfword);
+    std::memcpy(to_halfwords + i, &halfword, sizeof halfword);
+  }
+}
+
+// The receive mailbox's read: the fields a frame from Replay::next_frame() has (a classic
+// frame's; its length is at most 8), not the 80 bytes of Frame's CAN FD room.
+inline void read_mailbox(stickslip::can::Frame& to, const stickslip::can::Frame& from) noexcept {
+  to.id = from.id;
+  to.length = from.length;
+  to.flags = from.flags;
+  copy_classic_data(to.data, from.data);
+}
 
 // Read: `read(buffer, capacity)` returns the bytes read (0 at the end). Write:
 // `write(file, bytes, count)` writes them all to file 0 (frames) or 1 (records).
@@ -46,11 +73,14 @@ class Replay {
   void sent(const stickslip::can::Frame& frame) {
     if (frames_used_ + kFrameRecordBytes > sizeof frames_) flush_frames();
     std::uint8_t* r = frames_ + frames_used_;
-    for (int i = 0; i < 4; ++i) r[i] = static_cast<std::uint8_t>(frame.id >> (8 * i));
-    r[4] = frame.length;
-    r[5] = frame.flags;
-    r[6] = r[7] = 0;
-    for (int i = 0; i < 8; ++i) r[8 + i] = i < frame.length ? frame.data[i] : 0;
+    // Little-endian words (both the host and the Cortex-M targets are little-endian).
+    static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
+                  "the record's words are little-endian");
+    const std::uint32_t words[2] = {frame.id, frame.length | std::uint32_t{frame.flags} << 8};
+    std::memcpy(__builtin_assume_aligned(r, 4), words, sizeof words);
+    copy_classic_data(r + 8, frame.data);
+    // The node's frames are all 8 bytes long; a shorter one's record is zero beyond it.
+    for (int i = frame.length; i < stickslip::can::kClassicMaxLength; ++i) r[8 + i] = 0;
     frames_used_ += kFrameRecordBytes;
   }
   // After a received frame whose samples the node stepped: appends the record of its last step
@@ -84,7 +114,7 @@ class Replay {
   Write write_;
   std::uint8_t input_[kFrameRecordBytes * 16] = {};
   std::size_t filled_ = 0, next_ = 0;
-  std::uint8_t frames_[kFrameRecordBytes * 512] = {};
+  alignas(4) std::uint8_t frames_[kFrameRecordBytes * 512] = {};
   std::size_t frames_used_ = 0;
   std::uint8_t records_[kNodeRecordBytes * 16] = {};
   std::size_t records_used_ = 0;

@@ -108,7 +108,7 @@ class EcuNode {
   FrameVerdict on_frame(const Frame& frame, std::uint64_t now_ns, Sink& sink) noexcept {
     // Members, not locals: the receive interrupt's stack holds only the seat's step (the
     // Cortex-M0+ budget is 256 bytes).
-    result_ = checker_.check(frame, now_ns);
+    checker_.check(frame, now_ns, result_);
     if (frame.id == kSeatInput.id && !(frame.flags & kExtendedId)) ++input_frames_;
     const bool accepted = result_.verdict == FrameVerdict::accepted;
     if (!accepted && !result_.hold) return result_.verdict;

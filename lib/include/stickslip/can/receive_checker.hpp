@@ -141,11 +141,20 @@ class ReceiveChecker {
 
   CheckResult check(const Frame& frame, std::uint64_t now_ns) noexcept {
     CheckResult result;
+    check(frame, now_ns, result);
+    return result;
+  }
+  // The same, written into `result` (every field): for a caller that keeps the result where it
+  // lives (EcuNode, off the receive interrupt's stack), which would otherwise assign it from a
+  // zeroed temporary (a memset and a memcpy call a frame on the Cortex-M builds).
+  void check(const Frame& frame, std::uint64_t now_ns, CheckResult& result) noexcept {
     ++counters_.frames;
     result.verdict = classify(frame, config_.e2e);
+    result.lost_samples = result.skipped_samples = 0;
+    result.resync = result.hold = false;
+    result.payload = Payload{};
     if (result.verdict == FrameVerdict::accepted) sequence(frame, now_ns, result);
     count(result);
-    return result;
   }
 
   // Call when no frame arrived for a while: counts one silence per silent period (until the next

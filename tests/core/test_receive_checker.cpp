@@ -51,17 +51,17 @@ TEST(ReceiveCheckerResult, CheckingIntoAReusedResultWritesEveryFieldAsTheReturne
     const std::uint32_t r = random();
     const std::uint32_t kind = r % 16u;
     std::uint16_t step = 1;
-    if (kind == 0) step = static_cast<std::uint16_t>(2 + (r >> 4) % 9);    // lost, held
-    if (kind == 1) step = static_cast<std::uint16_t>(12 + (r >> 4) % 50);  // beyond the gap
-    if (kind == 2) step = 0;                                               // duplicate
+    if (kind == 0) step = static_cast<std::uint16_t>(2 + (r >> 4) % 9);          // lost, held
+    if (kind == 1) step = static_cast<std::uint16_t>(12 + (r >> 4) % 50);        // beyond the gap
+    if (kind == 2) step = 0;                                                     // duplicate
     if (kind == 3) step = static_cast<std::uint16_t>(0x8000u + (r >> 4) % 100);  // behind
     const auto next = static_cast<std::uint16_t>(counter + step);
     const auto next_alive = static_cast<std::uint8_t>((alive + step) & 0x0Fu);
     const bool unavailable = kind == 4;
-    can::Frame frame = input_frame(
-        next, kind == 5 ? static_cast<std::uint8_t>(next_alive + 1u) : next_alive,
-        unavailable ? static_cast<std::uint16_t>(can::kSignedNotAvailable)
-                    : static_cast<std::uint16_t>(r >> 16));
+    can::Frame frame =
+        input_frame(next, kind == 5 ? static_cast<std::uint8_t>(next_alive + 1u) : next_alive,
+                    unavailable ? static_cast<std::uint16_t>(can::kSignedNotAvailable)
+                                : static_cast<std::uint16_t>(r >> 16));
     if (kind == 6) frame.data[0] ^= 0x01u;  // bad CRC
     if (kind == 7) frame.length = 7;
     if (kind == 8) frame.flags = can::kRemote;

@@ -17,21 +17,32 @@
 
 inline constexpr std::size_t kFrameRecordBytes = 16;
 
+// One halfword of a classic frame's data, i even, zero from byte `length` on. Both ends are
+// 2-aligned (Frame::data; a record's data at byte 8): ARMv6-M has no unaligned word access, and
+// a copy whose alignment the compiler cannot see is a memcpy call there.
+[[gnu::always_inline]] inline void move_halfword(std::uint8_t* to, const std::uint8_t* from, int i,
+                                                 std::uint8_t length) noexcept {
+  static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__, "a halfword's first byte is its low");
+  std::uint16_t halfword = 0;
+  std::memcpy(&halfword, __builtin_assume_aligned(from + i, 2), sizeof halfword);
+  if (i + 1 >= length) halfword = static_cast<std::uint16_t>(i >= length ? 0u : halfword & 0x00FFu);
+  std::memcpy(__builtin_assume_aligned(to + i, 2), &halfword, sizeof halfword);
+}
+
 // Moves a classic frame's 8 data bytes as four halfwords, as a CAN controller's mailbox takes
-// them: a byte loop costs about 90 ARMv6-M instructions a frame, and ARMv6-M has no unaligned
-// word access. Both ends are 2-aligned (Frame::data; a record's data at byte 8).
-inline void copy_classic_data(std::uint8_t* to, const std::uint8_t* from) noexcept {
+// them, with the bytes from `length` on zero (a byte loop costs about 90 ARMv6-M instructions a
+// frame). Unrolled, with the zeros masked per halfword: a loop over the tail would be a memset
+// call of variable length, which the firmware's static bound (tools/elf-wcet.py) refuses.
+[[gnu::always_inline]] inline void copy_classic_data(std::uint8_t* to, const std::uint8_t* from,
+                                                     std::uint8_t length) noexcept {
   static_assert(
       offsetof(stickslip::can::Frame, data) % 2 == 0 && alignof(stickslip::can::Frame) % 2 == 0,
       "Frame::data starts on a halfword");
-  auto* const to_halfwords = static_cast<std::uint8_t*>(__builtin_assume_aligned(to, 2));
-  const auto* const from_halfwords =
-      static_cast<const std::uint8_t*>(__builtin_assume_aligned(from, 2));
-  for (int i = 0; i < stickslip::can::kClassicMaxLength; i += 2) {
-    std::uint16_t halfword = 0;
-    std::memcpy(&halfword, from_halfwords + i, sizeof halfword);
-    std::memcpy(to_halfwords + i, &halfword, sizeof halfword);
-  }
+  static_assert(stickslip::can::kClassicMaxLength == 8, "four halfwords");
+  move_halfword(to, from, 0, length);
+  move_halfword(to, from, 2, length);
+  move_halfword(to, from, 4, length);
+  move_halfword(to, from, 6, length);
 }
 
 // The receive mailbox's read: the fields a frame from Replay::next_frame() has (a classic
@@ -40,7 +51,7 @@ inline void read_mailbox(stickslip::can::Frame& to, const stickslip::can::Frame&
   to.id = from.id;
   to.length = from.length;
   to.flags = from.flags;
-  copy_classic_data(to.data, from.data);
+  copy_classic_data(to.data, from.data, from.length);
 }
 
 // Read: `read(buffer, capacity)` returns the bytes read (0 at the end). Write:
@@ -78,9 +89,7 @@ class Replay {
                   "the record's words are little-endian");
     const std::uint32_t words[2] = {frame.id, frame.length | std::uint32_t{frame.flags} << 8};
     std::memcpy(__builtin_assume_aligned(r, 4), words, sizeof words);
-    copy_classic_data(r + 8, frame.data);
-    // The node's frames are all 8 bytes long; a shorter one's record is zero beyond it.
-    for (int i = frame.length; i < stickslip::can::kClassicMaxLength; ++i) r[8 + i] = 0;
+    copy_classic_data(r + 8, frame.data, frame.length);
     frames_used_ += kFrameRecordBytes;
   }
   // After a received frame whose samples the node stepped: appends the record of its last step

@@ -24,6 +24,7 @@
 // the node holds the last sample for it. Nothing refused ever reaches the model.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "stickslip/can/codec.hpp"
@@ -152,7 +153,10 @@ class ReceiveChecker {
     result.verdict = classify(frame, config_.e2e);
     result.lost_samples = result.skipped_samples = 0;
     result.resync = result.hold = false;
-    result.payload = Payload{};
+    // Field by field: a struct assignment is a memset call on the Cortex-M0+ build.
+    result.payload.sample_counter = 0;
+    result.payload.alive_counter = result.payload.flags = 0;
+    result.payload.words[0] = result.payload.words[1] = 0;
     if (result.verdict == FrameVerdict::accepted) sequence(frame, now_ns, result);
     count(result);
   }
@@ -251,48 +255,26 @@ class ReceiveChecker {
     }
   }
 
+  // Each verdict's counter, in FrameVerdict's order: a table rather than a switch, which may
+  // compile to a jump table that the firmware's static bound (tools/elf-wcet.py) cannot follow.
+  static constexpr std::uint64_t FaultCounters::*kVerdictCounters[] = {
+      &FaultCounters::accepted,       &FaultCounters::ignored_output,
+      &FaultCounters::duplicate,      &FaultCounters::out_of_order,
+      &FaultCounters::bad_crc,        &FaultCounters::wrong_length,
+      &FaultCounters::foreign_frames, &FaultCounters::can_fd,
+      &FaultCounters::error_frame,    &FaultCounters::remote_frame,
+      &FaultCounters::alive_mismatch, &FaultCounters::invalid_signal,
+  };
+  static_assert(sizeof kVerdictCounters / sizeof kVerdictCounters[0] ==
+                    static_cast<std::size_t>(FrameVerdict::invalid_signal) + 1,
+                "one counter per verdict");
+
   void count(const CheckResult& result) noexcept {
     FaultCounters& c = counters_;
-    switch (result.verdict) {
-      case FrameVerdict::accepted:
-        ++c.accepted;
-        if (result.payload.flags & kAuSaturated) ++c.sender_saturated;
-        break;
-      case FrameVerdict::ignored_output:
-        ++c.ignored_output;
-        break;
-      case FrameVerdict::duplicate:
-        ++c.duplicate;
-        break;
-      case FrameVerdict::out_of_order:
-        ++c.out_of_order;
-        break;
-      case FrameVerdict::bad_crc:
-        ++c.bad_crc;
-        break;
-      case FrameVerdict::wrong_length:
-        ++c.wrong_length;
-        break;
-      case FrameVerdict::foreign_frame:
-        ++c.foreign_frames;
-        break;
-      case FrameVerdict::can_fd:
-        ++c.can_fd;
-        break;
-      case FrameVerdict::error_frame:
-        ++c.error_frame;
-        break;
-      case FrameVerdict::remote_frame:
-        ++c.remote_frame;
-        break;
-      case FrameVerdict::alive_mismatch:
-        ++c.alive_mismatch;
-        break;
-      case FrameVerdict::invalid_signal:
-        ++c.invalid_signal;
-        if (result.hold) ++c.held_samples;
-        break;
-    }
+    ++(c.*kVerdictCounters[static_cast<std::size_t>(result.verdict)]);
+    if (result.verdict == FrameVerdict::accepted && (result.payload.flags & kAuSaturated))
+      ++c.sender_saturated;
+    if (result.verdict == FrameVerdict::invalid_signal && result.hold) ++c.held_samples;
     if (result.verdict == FrameVerdict::accepted ||
         result.verdict == FrameVerdict::invalid_signal) {
       c.lost += result.lost_samples;

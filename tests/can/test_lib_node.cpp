@@ -267,7 +267,7 @@ TEST(LibEcuNode, Fixed32HostNodeSendsTheCortexM0plusSeatsFullSetWithItsWordWindo
   can::EcuNode<can::ScaledSeat<Fixed32, CoulombStickSlip>> node;
   // Samples 0, 10, ..., 1000: the first block completes with sample 1000 and its figures are
   // published kStages samples later.
-  static_assert(can::WordWindow<can::kSeatWindowBlocks>::kStages == 3, "published at 1003");
+  static_assert(can::WordWindow<can::kSeatWindowBlocks>::kStages == 5, "published at 1005");
   seat_sends_the_host_nodes_full_set(node, host::ScalarType::fixed32, 101);
 }
 

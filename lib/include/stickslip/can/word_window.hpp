@@ -13,12 +13,14 @@
 // few words.
 //
 // Per sample: two 16 x 16-bit squares and three 64-bit adds; when a block completes, the window's
-// sums gain it and lose the oldest (exact). The next kStages samples each run one stage: (1) T_ax,
-// (2) p, (3) K, after which the three words are published together (a SeatStats frame never
-// mixes two windows). A stage is one long division of at most kMaxQuotientBits + 1 quotient bits
-// and at most one square root of kRootBits bits, shift-and-subtract in 64-bit words (up to about
-// 2,300 ARMv6-M instructions, docs/EMBEDDED.md), where the whole would land on one frame; no
-// software float, so every loop has the trip count stated here (port/baremetal/loop-bounds.json).
+// sums gain it and lose the oldest (exact). The next kStages samples each run one stage: T_ax's
+// division, its square root, p's division, K's division, its square root; then the three words
+// are published together (a SeatStats frame never mixes two windows). A stage is one long
+// division of at most kMaxQuotientBits + 1 quotient bits or one square root of kRootBits bits,
+// shift-and-subtract in 64-bit words (up to about 1,000 ARMv6-M instructions, docs/EMBEDDED.md):
+// all of them in one sample would land about 4,500 on one frame, a division and its root
+// together about 2,000. No software float, so every loop has the trip count stated here
+// (port/baremetal/loop-bounds.json).
 #pragma once
 
 #include <cmath>
@@ -123,7 +125,7 @@ class WordWindow {
 
  public:
   // Samples after a completed block until its figures are published.
-  static constexpr unsigned kStages = 3;
+  static constexpr unsigned kStages = 5;
 
   // samples_per_block (at least 1; the window is kBlocks of them, below 2^32 samples), and F_fk
   // and m for K (as the seat's configure() has accepted them). With fewer than kStages + 1
@@ -218,34 +220,33 @@ class WordWindow {
     not_available(words.den_hartog_k);
   }
 
+  // An if chain, not a switch: five cases compile to a jump table on the Cortex-M0+, which the
+  // firmware's static bound (tools/elf-wcet.py) cannot follow.
   void run_stage() noexcept {
     using namespace word_window_detail;
-    switch (stage_) {
-      case 1: {
-        // 4 (2^F T_ax)^2 = sum a_x^2 2^(2F + 2) / sum a_u^2 (the words share their scale); T_ax
-        // = 0 without input, as the observer's.
-        static_assert(kSeatInput.signals[0].fraction_bits == kSeatMotion.signals[0].fraction_bits,
-                      "a_u and a_x words of one scale");
-        const int f = kSeatStats.signals[0].fraction_bits;
-        pending_.transmissibility =
-            figured_.u_sq == 0u ? Quantised{0, false}
-                                : word_of_quarter(divide_scaled(figured_.x_sq, figured_.u_sq,
-                                                                2 * f + 2, kSaturatedQuarter));
-        break;
-      }
-      case 2: {
-        // floor(2 2^F p) = floor(sum stuck / (samples 2^(24 - F - 1))), p <= 1: at most 2^(F+1).
-        constexpr int f = kSeatStats.signals[1].fraction_bits;
-        static_assert(f + 1 <= 24 && f < 16, "p's word from the Q.24 stuck sum");
-        const std::uint64_t twice = divide_scaled(
-            figured_.stuck, std::uint64_t{figured_.samples} << (24 - f - 1), 0, kSaturatedQuarter);
-        pending_.stick_probability = {static_cast<std::uint16_t>((twice + 1u) / 2u), false};
-        break;
-      }
-      default:
-        pending_.den_hartog_k = den_hartog_k_word();
-        words_ = pending_;
-        break;
+    if (stage_ == 1) {
+      // 4 (2^F T_ax)^2 = sum a_x^2 2^(2F + 2) / sum a_u^2 (the words share their scale); T_ax =
+      // 0 without input, as the observer's (the word of quarter 0 is 0).
+      static_assert(kSeatInput.signals[0].fraction_bits == kSeatMotion.signals[0].fraction_bits,
+                    "a_u and a_x words of one scale");
+      const int f = kSeatStats.signals[0].fraction_bits;
+      quarter_ = figured_.u_sq == 0u
+                     ? 0u
+                     : divide_scaled(figured_.x_sq, figured_.u_sq, 2 * f + 2, kSaturatedQuarter);
+    } else if (stage_ == 2) {
+      pending_.transmissibility = word_of_quarter(quarter_);
+    } else if (stage_ == 3) {
+      // floor(2 2^F p) = floor(sum stuck / (samples 2^(24 - F - 1))), p <= 1: at most 2^(F+1).
+      constexpr int f = kSeatStats.signals[1].fraction_bits;
+      static_assert(f + 1 <= 24 && f < 16, "p's word from the Q.24 stuck sum");
+      const std::uint64_t twice = divide_scaled(
+          figured_.stuck, std::uint64_t{figured_.samples} << (24 - f - 1), 0, kSaturatedQuarter);
+      pending_.stick_probability = {static_cast<std::uint16_t>((twice + 1u) / 2u), false};
+    } else if (stage_ == 4) {
+      quarter_ = den_hartog_k_quarter();
+    } else {
+      pending_.den_hartog_k = den_hartog_k_word(quarter_);
+      words_ = pending_;
     }
     if (stage_ != kStages) {
       ++stage_;
@@ -267,19 +268,24 @@ class WordWindow {
   }
 
   // K = K(1 m/s^2) / RMS(a_u), RMS(a_u)^2 = sum a_u^2 / (samples 2^(2 Fu)) (Fu: a_u's fraction
-  // bits): 4 (2^Fk K)^2 = mantissa samples 2^(exponent + 2 Fk + 2 Fu + 2) / sum a_u^2. As
-  // den_hartog_factor(): 0 without friction, infinite (not available) without input.
-  Quantised den_hartog_k_word() const noexcept {
+  // bits): 4 (2^Fk K)^2 = mantissa samples 2^(exponent + 2 Fk + 2 Fu + 2) / sum a_u^2; 0 where
+  // den_hartog_k_word() has K without it.
+  std::uint64_t den_hartog_k_quarter() const noexcept {
     using namespace word_window_detail;
-    if (unit_k_squared_mantissa_ == 0u) return {0, false};
-    if (figured_.u_sq == 0u) return {kUnsignedNotAvailable, false};
+    if (unit_k_squared_mantissa_ == 0u || figured_.u_sq == 0u) return 0u;
     const int shift = unit_k_squared_exponent_ + 2 * kSeatScene.signals[0].fraction_bits +
                       2 * kSeatInput.signals[0].fraction_bits + 2;
     std::uint64_t numerator =
         fixed_point_detail::multiply_32x32(unit_k_squared_mantissa_, figured_.samples);
     if (shift < 0) numerator = -shift < 64 ? numerator >> -shift : 0u;  // floor of a floor
-    return word_of_quarter(
-        divide_scaled(numerator, figured_.u_sq, shift > 0 ? shift : 0, kSaturatedQuarter));
+    return divide_scaled(numerator, figured_.u_sq, shift > 0 ? shift : 0, kSaturatedQuarter);
+  }
+  // K's word from that quarter. As den_hartog_factor(): 0 without friction, infinite (not
+  // available) without input.
+  Quantised den_hartog_k_word(std::uint64_t quarter) const noexcept {
+    if (unit_k_squared_mantissa_ == 0u) return {0, false};
+    if (figured_.u_sq == 0u) return {kUnsignedNotAvailable, false};
+    return word_window_detail::word_of_quarter(quarter);
   }
 
   Sums blocks_[kBlocks]{};
@@ -287,9 +293,10 @@ class WordWindow {
   Sums figured_{};  // the window as the running stages figure it
   std::uint32_t samples_per_block_ = 1;
   std::size_t next_ = 0;
-  std::size_t filled_ = 0;    // blocks written since reset(), up to kBlocks
-  unsigned stage_ = 0;        // 0: idle; else the stage the next sample runs
-  bool newer_block_ = false;  // a block completed while the stages ran
+  std::size_t filled_ = 0;     // blocks written since reset(), up to kBlocks
+  unsigned stage_ = 0;         // 0: idle; else the stage the next sample runs
+  std::uint64_t quarter_ = 0;  // a division's result for the next stage's square root
+  bool newer_block_ = false;   // a block completed while the stages ran
   std::uint32_t unit_k_squared_mantissa_ = 0;
   int unit_k_squared_exponent_ = 0;
   StatsWords pending_{}, words_{};

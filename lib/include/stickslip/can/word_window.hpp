@@ -17,7 +17,7 @@
 // division, its square root, p's division, K's division, its square root; then the three words
 // are published together (a SeatStats frame never mixes two windows). A stage is one long
 // division of at most kMaxQuotientBits + 1 quotient bits or one square root of kRootBits bits,
-// shift-and-subtract in 64-bit words (up to about 1,000 ARMv6-M instructions, docs/EMBEDDED.md):
+// shift-and-subtract in 64-bit words (up to about 1,200 ARMv6-M instructions, docs/EMBEDDED.md):
 // all of them in one sample would land about 4,500 on one frame, a division and its root
 // together about 2,000. No software float, so every loop has the trip count stated here
 // (port/baremetal/loop-bounds.json).

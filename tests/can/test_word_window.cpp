@@ -197,6 +197,19 @@ TEST(WordWindow, SilentFloorGivesZeroTransmissibilityAndKNotAvailable) {
   CHECK(can::not_available(can::kSeatScene.signals[0], window.words().den_hartog_k.word));
 }
 
+TEST(WordWindow, BitLengthCountsTheSignificantBitsAtEveryWidth) {
+  using can::word_window_detail::bit_length;
+  LONGS_EQUAL(0, bit_length(0u));
+  std::mt19937_64 random(5);
+  for (int bits = 1; bits <= 64; ++bits) {
+    const std::uint64_t top = std::uint64_t{1} << (bits - 1);
+    const std::uint64_t all = bits == 64 ? ~std::uint64_t{0} : (top << 1) - 1u;
+    LONGS_EQUAL(bits, bit_length(top));
+    LONGS_EQUAL(bits, bit_length(all));
+    for (int n = 0; n < 100; ++n) LONGS_EQUAL(bits, bit_length(top | (random() & (top - 1u))));
+  }
+}
+
 TEST(WordWindow, DivisionGivesTheExactScaledQuotientOrTheCap) {
   // divide_scaled(a, b, f, cap) = floor(a 2^f / b), capped, against Wide.
   using can::word_window_detail::divide_scaled;

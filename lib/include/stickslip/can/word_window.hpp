@@ -17,9 +17,9 @@
 // division, its square root, p's division, K's division, its square root; then the three words
 // are published together (a SeatStats frame never mixes two windows). A stage is one long
 // division of at most kMaxQuotientBits + 1 quotient bits or one square root of kRootBits bits,
-// shift-and-subtract in 64-bit words (up to about 1,200 ARMv6-M instructions, docs/EMBEDDED.md):
-// all of them in one sample would land about 4,500 on one frame, a division and its root
-// together about 2,000. No software float, so every loop has the trip count stated here
+// shift-and-subtract in 64-bit words (up to about 900 ARMv6-M instructions, docs/EMBEDDED.md):
+// all of them in one sample would land about 3,900 on one frame, a division and its root
+// together about 1,700. No software float, so every loop has the trip count stated here
 // (port/baremetal/loop-bounds.json).
 #pragma once
 
@@ -42,16 +42,14 @@ inline constexpr int kMaxQuotientBits = 40;
 // Square roots are taken of values below 2^36: roots below 2^18, one bit per round.
 inline constexpr int kRootBits = 18;
 
-// The number of significant bits of v (0 for 0): six halving steps.
+// The number of significant bits of v (0 for 0), from the leading zeros of its upper or lower
+// half: no loop, and no 64-bit shift by a variable amount (a libgcc call on ARMv6-M, whose
+// __clzsi2 is loop-free).
 inline int bit_length(std::uint64_t v) noexcept {
-  int n = 0;
-  for (int step = 32; step > 0; step >>= 1) {
-    if ((v >> step) != 0u) {
-      v >>= step;
-      n += step;
-    }
-  }
-  return n + (v != 0u ? 1 : 0);
+  const auto high = static_cast<std::uint32_t>(v >> 32);
+  const auto low = static_cast<std::uint32_t>(v);
+  if (high != 0u) return 64 - __builtin_clz(high);
+  return low != 0u ? 32 - __builtin_clz(low) : 0;
 }
 
 // floor(a 2^f / b), or `cap` where that is >= cap, for 0 < b < 2^63, f >= 0 and cap <= 2^40:

@@ -17,7 +17,7 @@ const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const
   return s.model().oscillator();
 }
 // Its statistics: the block window over its own words (can/word_window.hpp), in integers, one
-// figure per sample in the samples after a block completes.
+// division or square root per sample in the samples after a block completes.
 #else
 using Scalar = float;  // Cortex-M4F: single-precision FPU
 // The observer, as the host node runs it: its estimate is the oscillator's step, and its window

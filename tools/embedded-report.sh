@@ -543,7 +543,7 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
 w("")
 w("The budgets (step code <= 4096 B, stack <= 256 B on the Cortex-M0+) are the seat's step's, "
   "measured from `stickslip_seat_step`. The node around it is the receive checker "
-  "(`can/receive_checker.hpp`: classification, CRC-8 SAE J1850 bit by bit, alive and sample "
+  "(`can/receive_checker.hpp`: classification, CRC-8 SAE J1850 from a 256-byte table, alive and sample "
   "counters, the gap policy, 19 64-bit fault counters), the sender's sample number (64-bit), "
   "the word conversions of a_u and the four outputs, the encoding of SeatMotion, SeatForce, "
   "SeatStats and SeatScene, and on the M0+ the statistics window over the words (on the M4F the "

@@ -149,12 +149,6 @@ std::vector<double> set_scales(FitProblem& problem,
   return u;
 }
 
-double cost_at(const FitProblem& problem, const std::vector<double>& u) {
-  std::vector<double> residuals;
-  if (!fit_residuals(problem, u.data(), residuals)) return std::numeric_limits<double>::infinity();
-  return std::inner_product(residuals.begin(), residuals.end(), residuals.begin(), 0.0);
-}
-
 // The global stage: the natural frequency f_n = sqrt(k/m)/(2 pi) from 0.7 to 2.8 Hz (a seat
 // that sticks most of the time shows no resonance in |a_x/a_u|, so the spectral peak alone is no
 // safe start) and the spectral one, damping x {0.5, 1}, K from 0.15 to 2.7, for what is fitted
@@ -174,6 +168,7 @@ std::vector<Candidate> scan_starts(FitProblem& problem, const FitRequest& reques
   std::vector<double> friction = {0.0};
   if (scanned(FitParameter::ffk)) friction = {0.15, 0.3, 0.5, 0.8, 1.2, 1.8, 2.7};
   std::vector<Candidate> best_per_stiffness;
+  FitBuffers buffers;
   for (double k : stiffness) {
     Candidate best{centre, std::numeric_limits<double>::infinity()};
     for (double bs : damping) {
@@ -191,7 +186,7 @@ std::vector<Candidate> scan_starts(FitProblem& problem, const FitRequest& reques
                 std::max(1.1 * ffk, mass * data.static_force_bound_per_kg);
           }
         }
-        candidate.cost = cost_at(problem, set_scales(problem, candidate.value));
+        candidate.cost = fit_cost(problem, set_scales(problem, candidate.value).data(), buffers);
         if (candidate.cost < best.cost) best = candidate;
       }
     }
@@ -326,7 +321,8 @@ NoiseTest residual_noise_test(const FitProblem& problem, const std::vector<doubl
                               std::size_t samples) {
   NoiseTest test;
   std::vector<double> r;
-  if (samples < 16 || !fit_residuals(problem, u.data(), r)) return test;
+  FitBuffers buffers;
+  if (samples < 16 || !fit_residuals(problem, u.data(), r, buffers)) return test;
   r.resize(samples);
   std::vector<double> second(samples - 2), magnitude(samples - 2);
   for (std::size_t n = 0; n + 2 < samples; ++n) {
@@ -412,12 +408,12 @@ void fill_result(FitResult& result, const Attempt& best, const FitCovariance& co
 void measure_model(FitResult& result, const Attempt& best, const RigRecording& rig,
                    const RigInspection& data) {
   std::vector<double> residuals;
-  SimulationTrace<double> trace;
+  FitBuffers buffers;
   SimulationSummary summary;
-  if (!fit_residuals(best.problem, best.fit.u.data(), residuals, &trace, &summary))
+  if (!fit_residuals(best.problem, best.fit.u.data(), residuals, buffers, &summary))
     throw HostError(rig.path + ": the fitted parameters are refused by the model");
   // (a fit that did not converge reports that; its model says nothing about the channels)
-  if (best.fit.converged) check_alignment(rig, trace.a_x_m_per_s2);
+  if (best.fit.converged) check_alignment(rig, buffers.run.a_x_m_per_s2);
   const std::size_t samples = rig.a_x_m_per_s2.size();
   result.residual_m_per_s2.assign(residuals.begin(),
                                   residuals.begin() + static_cast<std::ptrdiff_t>(samples));
@@ -487,7 +483,8 @@ FitProbe probe_fit(const RigRecording& rig, const FitRequest& request,
   const std::vector<double> u = set_scales(problem, values);
   const FitBox box = make_box(problem, request);
   std::vector<double> residuals;
-  if (!fit_residuals(problem, u.data(), residuals))
+  FitBuffers buffers;
+  if (!fit_residuals(problem, u.data(), residuals, buffers))
     throw HostError(rig.path + ": the model refuses the probed parameters");
   FitProbe probe;
   const std::size_t samples = rig.a_x_m_per_s2.size();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace stickslip::host {
 namespace {
@@ -68,19 +69,22 @@ namespace {
 // x_r measured or 0), as the whole recording does and as simulate --gaps split runs its parts: the
 // state after a gap is unknown, and carrying the model's state over the gap would bridge it.
 // T_ax and p over all parts, from each part's sums (rms^2 times samples, p times samples).
-bool simulate_parts(const RigRecording& rig, SimulationSetup& setup, SimulationTrace<double>& run,
+bool simulate_parts(const RigRecording& rig, SimulationSetup& setup, FitBuffers& buffers,
                     SimulationSummary& statistics) {
-  run = SimulationTrace<double>{};
+  SimulationTrace<double>& run = buffers.run;
+  SimulationTrace<double>& part = buffers.part;
+  for (auto* column : {&run.x_r_m, &run.v_r_m_per_s, &run.a_x_m_per_s2, &run.friction_n})
+    column->clear();
+  run.stuck.clear();
   double sum_u = 0.0, sum_x = 0.0, stuck = 0.0, samples = 0.0;
   for (std::size_t i = 0; i < rig.segment_count(); ++i) {
     const auto begin = static_cast<std::ptrdiff_t>(rig.segment_begin(i));
     const auto end = static_cast<std::ptrdiff_t>(rig.segment_end(i));
-    const std::vector<double> a_u(rig.a_u_m_per_s2.begin() + begin, rig.a_u_m_per_s2.begin() + end);
+    buffers.part_a_u.assign(rig.a_u_m_per_s2.begin() + begin, rig.a_u_m_per_s2.begin() + end);
     setup.x0_m = rig.has_travel() ? rig.x_r_m[static_cast<std::size_t>(begin)] : 0.0;
-    SimulationTrace<double> part;
     SimulationSummary summary;
     try {
-      summary = simulate_signal(setup, a_u, part);
+      summary = simulate_signal(setup, buffers.part_a_u, part);
     } catch (const HostError&) {
       return false;  // parameters configure() refuses: the solver steps back
     }
@@ -112,13 +116,12 @@ std::size_t fit_residual_count(const FitProblem& problem) {
 }
 
 bool fit_residuals(const FitProblem& problem, const double* u, std::vector<double>& residuals,
-                   SimulationTrace<double>* trace, SimulationSummary* summary) {
+                   FitBuffers& buffers, SimulationSummary* summary) {
   const RigRecording& rig = *problem.rig;
   SimulationSetup setup;
   setup.params = fit_params(problem, u);
   setup.repetitions = 1;
-  SimulationTrace<double> local;
-  SimulationTrace<double>& run = trace != nullptr ? *trace : local;
+  SimulationTrace<double>& run = buffers.run;
   SimulationSummary statistics;
   if (rig.segment_count() == 1) {
     setup.x0_m = rig.has_travel() ? rig.x_r_m[0] : 0.0;
@@ -127,7 +130,7 @@ bool fit_residuals(const FitProblem& problem, const double* u, std::vector<doubl
     } catch (const HostError&) {
       return false;  // parameters configure() refuses: the solver steps back
     }
-  } else if (!simulate_parts(rig, setup, run, statistics)) {
+  } else if (!simulate_parts(rig, setup, buffers, statistics)) {
     return false;
   }
   const std::size_t samples = rig.a_x_m_per_s2.size();
@@ -142,18 +145,30 @@ bool fit_residuals(const FitProblem& problem, const double* u, std::vector<doubl
   return true;
 }
 
+double fit_cost(const FitProblem& problem, const double* u, FitBuffers& buffers) {
+  if (!fit_residuals(problem, u, buffers.residuals, buffers))
+    return std::numeric_limits<double>::infinity();
+  double sum = 0.0;
+  for (double value : buffers.residuals) sum += value * value;
+  return sum;
+}
+
 bool fit_jacobian(const FitProblem& problem, const double* u, const std::vector<double>& lower,
                   const std::vector<double>& upper, double step, const std::vector<double>& base,
-                  std::vector<double>& jacobian) {
+                  std::vector<double>& jacobian, FitBuffers& buffers) {
   const std::size_t count = problem.order.size();
   const std::size_t rows = base.size();
   jacobian.assign(rows * count, 0.0);
-  std::vector<double> point(u, u + count), plus, minus;
+  std::vector<double> point(u, u + count);
+  std::vector<double>& plus = buffers.plus;
+  std::vector<double>& minus = buffers.minus;
   for (std::size_t j = 0; j < count; ++j) {
     point[j] = u[j] + step;
-    const bool has_plus = point[j] <= upper[j] && fit_residuals(problem, point.data(), plus);
+    const bool has_plus =
+        point[j] <= upper[j] && fit_residuals(problem, point.data(), plus, buffers);
     point[j] = u[j] - step;
-    const bool has_minus = point[j] >= lower[j] && fit_residuals(problem, point.data(), minus);
+    const bool has_minus =
+        point[j] >= lower[j] && fit_residuals(problem, point.data(), minus, buffers);
     point[j] = u[j];
     if (!has_plus && !has_minus) return false;
     double* column = jacobian.data() + j * rows;

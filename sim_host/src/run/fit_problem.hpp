@@ -36,10 +36,24 @@ std::vector<double> fit_value_jacobian(const FitProblem& problem);
 // Residuals measured - model: a_x for every sample, then (with travel) travel_weight * x_r.
 std::size_t fit_residual_count(const FitProblem& problem);
 
-// Simulates the recording at u; false if configure() refuses the parameters. `trace` (optional)
-// receives the model run, `summary` its statistics.
+// What one model run writes, kept from one run to the next: a fit runs the model on the whole
+// recording thousands of times, and buffers of that size taken afresh each time are mapped and
+// returned to the kernel each time (under AddressSanitizer that took longer than the runs).
+struct FitBuffers {
+  SimulationTrace<double> run;      // the last model run, every part of the recording
+  SimulationTrace<double> part;     // one part of a recording cut at its gaps
+  std::vector<double> part_a_u;     // its input
+  std::vector<double> residuals;    // fit_cost()'s
+  std::vector<double> plus, minus;  // fit_jacobian()'s one-sided runs
+};
+
+// Simulates the recording at u into buffers.run; false if configure() refuses the parameters.
+// `summary` (optional) receives the run's statistics.
 bool fit_residuals(const FitProblem& problem, const double* u, std::vector<double>& residuals,
-                   SimulationTrace<double>* trace = nullptr, SimulationSummary* summary = nullptr);
+                   FitBuffers& buffers, SimulationSummary* summary = nullptr);
+
+// The sum of squared residuals at u; infinity if configure() refuses the parameters.
+double fit_cost(const FitProblem& problem, const double* u, FitBuffers& buffers);
 
 // The Jacobian of fit_residuals at u, column-major (one column of residual_count per unknown), by
 // central differences with step `step` in u. Per sample, where the two one-sided differences
@@ -48,6 +62,6 @@ bool fit_residuals(const FitProblem& problem, const double* u, std::vector<doubl
 // bounds uses the other one alone. Returns false if no model run succeeds.
 bool fit_jacobian(const FitProblem& problem, const double* u, const std::vector<double>& lower,
                   const std::vector<double>& upper, double step, const std::vector<double>& base,
-                  std::vector<double>& jacobian);
+                  std::vector<double>& jacobian, FitBuffers& buffers);
 
 }  // namespace stickslip::host

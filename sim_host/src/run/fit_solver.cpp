@@ -22,11 +22,11 @@ class RecordingCost final : public ceres::CostFunction {
 
   bool Evaluate(double const* const* parameters, double* residuals,
                 double** jacobians) const override {
-    if (!fit_residuals(problem_, parameters[0], base_)) return false;
+    if (!fit_residuals(problem_, parameters[0], base_, buffers_)) return false;
     std::copy(base_.begin(), base_.end(), residuals);
     if (jacobians == nullptr || jacobians[0] == nullptr) return true;
-    if (!fit_jacobian(problem_, parameters[0], box_.lower, box_.upper, box_.step, base_,
-                      columns_)) {
+    if (!fit_jacobian(problem_, parameters[0], box_.lower, box_.upper, box_.step, base_, columns_,
+                      buffers_)) {
       return false;
     }
     const std::size_t rows = base_.size(), count = problem_.order.size();
@@ -40,6 +40,7 @@ class RecordingCost final : public ceres::CostFunction {
   const FitProblem& problem_;
   const FitBox& box_;
   mutable std::vector<double> base_, columns_;
+  mutable FitBuffers buffers_;
 };
 
 }  // namespace
@@ -80,12 +81,13 @@ LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<d
 
 std::vector<std::vector<double>> principal_axes(const FitProblem& problem, const FitBox& box,
                                                 const std::vector<double>& u, double cost,
-                                                int* evaluations) {
+                                                FitBuffers& buffers, int* evaluations) {
   std::vector<std::vector<double>> axes;
   const std::size_t count = u.size();
   std::vector<double> residuals, columns;
-  if (!fit_residuals(problem, u.data(), residuals) ||
-      !fit_jacobian(problem, u.data(), box.lower, box.upper, box.step, residuals, columns)) {
+  if (!fit_residuals(problem, u.data(), residuals, buffers) ||
+      !fit_jacobian(problem, u.data(), box.lower, box.upper, box.step, residuals, columns,
+                    buffers)) {
     return axes;
   }
   if (evaluations != nullptr) *evaluations += 1 + 2 * static_cast<int>(count);
@@ -116,8 +118,9 @@ PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
                              double last_step, int max_evaluations, bool diagonals) {
   PatternSearch out{start, start_cost, 0, 0};
   const std::size_t count = start.size();
+  FitBuffers buffers;
   std::vector<std::vector<double>> axes =
-      principal_axes(problem, box, start, start_cost, &out.evaluations);
+      principal_axes(problem, box, start, start_cost, buffers, &out.evaluations);
   if (axes.empty()) return out;
   if (diagonals) {
     // every sum of two or more axes with signs, sum_i c_i a_i / sqrt(#c_i != 0) with c_i in
@@ -144,11 +147,7 @@ PatternSearch pattern_search(const FitProblem& problem, const FitBox& box,
   }
   const auto cost_at = [&](const std::vector<double>& u) {
     ++out.evaluations;
-    std::vector<double> r;
-    if (!fit_residuals(problem, u.data(), r)) return std::numeric_limits<double>::infinity();
-    double sum = 0.0;
-    for (double value : r) sum += value * value;
-    return sum;
+    return fit_cost(problem, u.data(), buffers);
   };
   const auto inside = [&](const std::vector<double>& u) {
     for (std::size_t j = 0; j < count; ++j)
@@ -195,9 +194,10 @@ FitCovariance fit_covariance(const FitProblem& problem, const std::vector<double
   out.no_influence.assign(count, false);
   out.correlation.assign(count, std::vector<double>(count, std::nan("")));
   std::vector<double> residuals, columns;
-  if (!fit_residuals(problem, u.data(), residuals) ||
+  FitBuffers buffers;
+  if (!fit_residuals(problem, u.data(), residuals, buffers) ||
       !fit_jacobian(problem, u.data(), box.lower, box.upper, box.covariance_step, residuals,
-                    columns)) {
+                    columns, buffers)) {
     return out;
   }
   const auto rows = static_cast<Eigen::Index>(residuals.size());

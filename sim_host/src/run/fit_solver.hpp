@@ -42,7 +42,7 @@ LocalFit solve_local(const FitProblem& problem, const FitBox& box, std::vector<d
 // to `evaluations`.
 std::vector<std::vector<double>> principal_axes(const FitProblem& problem, const FitBox& box,
                                                 const std::vector<double>& u, double cost,
-                                                int* evaluations = nullptr);
+                                                FitBuffers& buffers, int* evaluations = nullptr);
 
 // A derivative-free descent on the exact cost from `start`, for what Levenberg-Marquardt cannot
 // see: a sample's a_x jumps where a stick or break-away crosses it, so near the minimum the cost

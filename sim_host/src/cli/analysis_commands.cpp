@@ -41,7 +41,7 @@ void write_psd_csv(const Spectrum& spectrum, const TargetSpectrum* target,
 
 class PsdCommand : public Command {
  public:
-  void add_options(CLI::App& psd) override {
+  void add_options(Options& psd) override {
     psd.add_option("--input", input_, "recording (CSV t,a_u, .mat, a logger's text, a CAN log)")
         ->required();
     psd.add_option("--segment", segment_, "samples per segment, a power of two")
@@ -52,7 +52,7 @@ class PsdCommand : public Command {
     recording_.add_to(psd);
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream& err) override {
+  int run(Options&, std::ostream& out, std::ostream& err) override {
     const RecordingOptions recording = recording_.resolve();
     const TargetSpectrum* target = nullptr;
     if (!target_.empty()) {
@@ -90,7 +90,7 @@ class PsdCommand : public Command {
 
 class HarmonicBalanceCommand : public Command {
  public:
-  void add_options(CLI::App& hb) override {
+  void add_options(Options& hb) override {
     hb.add_option("--frequency", request_.frequency_hz, "excitation frequency, Hz")
         ->capture_default_str();
     hb.add_option("--amplitude", request_.amplitude_m_per_s2, "A, m/s^2")->capture_default_str();
@@ -106,7 +106,7 @@ class HarmonicBalanceCommand : public Command {
     hb.add_option("--output", output_, "CSV file to write")->required();
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+  int run(Options&, std::ostream& out, std::ostream&) override {
     const std::size_t rows = write_harmonic_balance_sweep(request_, output_);
     out << fmt::format("wrote {}: {} rows\n", output_, rows);
     return kExitOk;
@@ -119,7 +119,7 @@ class HarmonicBalanceCommand : public Command {
 
 class AdviseCommand : public Command {
  public:
-  void add_options(CLI::App& advise) override {
+  void add_options(Options& advise) override {
     OscillatorParams& p = request_.params;
     advise
         .add_option("--input", request_.input_path,
@@ -133,7 +133,7 @@ class AdviseCommand : public Command {
     recording_.add_to(advise);
   }
 
-  int run(CLI::App& advise_command, std::ostream& out, std::ostream& err) override {
+  int run(Options& advise_command, std::ostream& out, std::ostream& err) override {
     AdviseRequest request = request_;
     request.recording = recording_.resolve();
     default_static_friction(advise_command, request.params, nullptr);

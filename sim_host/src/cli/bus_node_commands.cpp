@@ -28,7 +28,7 @@ struct NodeOptions {
   unsigned output_every = 1;
   std::string outputs = "full";
 
-  void add_to(CLI::App& command, can::CheckerConfig& checker) {
+  void add_to(Options& command, can::CheckerConfig& checker) {
     command
         .add_option("--max-gap", checker.max_gap,
                     "lost samples held per gap; a longer gap is a counted resync")
@@ -40,7 +40,7 @@ struct NodeOptions {
         .add_option("--output-every", output_every,
                     "output cycle: SeatMotion/SeatForce every this many samples")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(OptionCheck::positive);
     command
         .add_option("--outputs", outputs,
                     "full (SeatMotion, SeatForce, SeatStats, SeatScene), reduced (SeatMotion, "
@@ -68,7 +68,7 @@ struct NodeOptions {
 
 class ReplayCommand : public Command {
  public:
-  void add_options(CLI::App& replay) override {
+  void add_options(Options& replay) override {
     replay.add_option("--input", request_.input_path, "CSV (t,a_u) or candump log (*.log)")
         ->required();
     replay.add_option("--bus", request_.bus, "loopback | a SocketCAN interface such as vcan0")
@@ -100,7 +100,7 @@ class ReplayCommand : public Command {
         ->group("Recording");
   }
 
-  int run(CLI::App& replay, std::ostream& out, std::ostream& err) override {
+  int run(Options& replay, std::ostream& out, std::ostream& err) override {
     ReplayRequest request = request_;
     check_bus_name("--bus", request_.bus);
     request.recording = recording_.resolve();
@@ -140,7 +140,7 @@ class ReplayCommand : public Command {
  private:
   // --rate HZ is the recording's sample rate, as on every command that reads one; --rate max and
   // --rate realtime, words that no rate can be, stay the pace they named before --pace.
-  std::string resolve_pace(CLI::App& replay, RecordingOptions& recording) const {
+  std::string resolve_pace(Options& replay, RecordingOptions& recording) const {
     if (!given(replay, "--rate")) return pace_;
     if (rate_ == "max" || rate_ == "realtime") {
       if (given(replay, "--pace") && pace_ != rate_)
@@ -172,7 +172,7 @@ class ReplayCommand : public Command {
 
 class EcuCommand : public Command {
  public:
-  void add_options(CLI::App& ecu) override {
+  void add_options(Options& ecu) override {
     ecu.add_option("--bus", request_.bus,
                    "a SocketCAN interface such as vcan0 (the loopback bus has no sender outside "
                    "this process: replay runs the node on it)")
@@ -183,7 +183,7 @@ class EcuCommand : public Command {
         ->capture_default_str();
     ecu.add_option("--timeout", timeout_s_, "stop after this many seconds (0: never)")
         ->capture_default_str()
-        ->check(CLI::NonNegativeNumber);
+        ->check(OptionCheck::non_negative);
     ecu.add_option("--dt", request_.setup.params.dt_s, "sample interval of the stream, s")
         ->capture_default_str();
     ecu.add_option("--output", request_.output_path, "write the node's samples as simulate does");
@@ -202,7 +202,7 @@ class EcuCommand : public Command {
     model_.add_to(ecu, request_.setup, kNodeSceneHelp);
   }
 
-  int run(CLI::App& ecu, std::ostream& out, std::ostream& err) override {
+  int run(Options& ecu, std::ostream& out, std::ostream& err) override {
     check_bus_name("--bus", request_.bus);
     EcuRequest request = request_;
     const ResolvedModel model = model_.resolve(ecu, request.setup);  // keeps --dt's value

@@ -15,7 +15,7 @@ namespace {
 
 class RecordCommand : public Command {
  public:
-  void add_options(CLI::App& record) override {
+  void add_options(Options& record) override {
     record.add_option("--input", request_.input_path, "recording as simulate reads it")->required();
     record.add_option("--output", request_.output_path, "candump log to write")->required();
     record.add_option("--interface", request_.interface, "interface name in the log")
@@ -26,7 +26,7 @@ class RecordCommand : public Command {
                       "clock, CLOCK_REALTIME, when record starts)");
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream& err) override {
+  int run(Options&, std::ostream& out, std::ostream& err) override {
     RecordRequest request = request_;
     request.recording = recording_.resolve();
     std::uint64_t saturated = 0;
@@ -45,7 +45,7 @@ class RecordCommand : public Command {
 
 class PlayCommand : public Command {
  public:
-  void add_options(CLI::App& play) override {
+  void add_options(Options& play) override {
     play.add_option("--input", request_.input_path, "CSV (t,a_u) or candump log (*.log)")
         ->required();
     play.add_option("--bus", request_.bus, "loopback | a SocketCAN interface such as vcan0")
@@ -60,7 +60,7 @@ class PlayCommand : public Command {
     recording_.add_to(play, false);
   }
 
-  int run(CLI::App& play, std::ostream& out, std::ostream& err) override {
+  int run(Options& play, std::ostream& out, std::ostream& err) override {
     PlayRequest request = request_;
     request.log_dt_given = given(play, "--dt");
     check_bus_name("--bus", request_.bus);

@@ -5,12 +5,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <exception>
 #include <filesystem>
 #include <iostream>
 #include <new>
 #include <ostream>
 #include <system_error>
+
+#include <CLI/CLI.hpp>
 
 #include "command.hpp"
 #include "stickslip/host/error.hpp"
@@ -189,9 +192,9 @@ bool same_file(const std::string& a, const std::string& b) {
 // Before anything is read: an output that is (or, through links, resolves to) an input would
 // replace the recording with what was computed from it, or two outputs would overwrite each
 // other; --no-clobber refuses an output that exists.
-void refuse_overlapping_files(const CLI::App& command) {
-  const auto inputs = given_files(command, kInputOptions, std::size(kInputOptions));
-  const auto outputs = given_files(command, kOutputOptions, std::size(kOutputOptions));
+void refuse_overlapping_files(const Options& command) {
+  const auto inputs = given_files(command.app(), kInputOptions, std::size(kInputOptions));
+  const auto outputs = given_files(command.app(), kOutputOptions, std::size(kOutputOptions));
   for (std::size_t i = 0; i < outputs.size(); ++i) {
     const auto& [output_option, output] = outputs[i];
     for (const auto& [input_option, input] : inputs) {
@@ -238,10 +241,11 @@ int parse_and_run(int argc, char** argv, std::ostream& out, std::ostream& err) {
       "Exit status: 0 success, 1 bad input data or failed file operation, 2 command-line error.");
   std::vector<std::unique_ptr<Command>> commands;
   std::vector<CLI::App*> apps;
+  std::deque<Options> options;
   for (const Subcommand& subcommand : kSubcommands) {
     commands.push_back(subcommand.make());
     apps.push_back(app.add_subcommand(subcommand.name, subcommand.description));
-    commands.back()->add_options(*apps.back());
+    commands.back()->add_options(options.emplace_back(*apps.back()));
   }
   for (CLI::App* command : apps) {
     if (command->get_option_no_throw("--output") != nullptr)
@@ -265,12 +269,12 @@ int parse_and_run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   }
   for (std::size_t i = 0; i < commands.size(); ++i) {
     if (!apps[i]->parsed()) continue;
-    refuse_overlapping_files(*apps[i]);
+    refuse_overlapping_files(options[i]);
     try {
-      return commands[i]->run(*apps[i], out, err);
+      return commands[i]->run(options[i], out, err);
     } catch (const ConfigurationError& error) {
       // Parameters from the command line are a usage error; from a scene file, bad data.
-      if (given(*apps[i], "--scene")) throw;
+      if (given(options[i], "--scene")) throw;
       throw UsageError(error.what());
     }
   }
@@ -341,27 +345,6 @@ std::function<void(std::uint64_t, std::uint64_t)> make_frame_progress(std::ostre
     }
     err.flush();
   };
-}
-
-CLI::Validator at_least_one() {
-  return CLI::Validator(
-      [](std::string& value) -> std::string {
-        std::size_t end = 0;
-        long long number = 0;
-        try {
-          number = std::stoll(value, &end);
-        } catch (const std::exception&) {
-          end = 0;
-        }
-        if (end == value.size() && end > 0 && number >= 1) return "";
-        return "must be a whole number >= 1, got '" + value + "'";
-      },
-      "N >= 1");
-}
-
-bool given(const CLI::App& command, const char* option) {
-  const CLI::Option* found = command.get_option_no_throw(option);
-  return found != nullptr && found->count() > 0;
 }
 
 int run_cli(int argc, char** argv, std::ostream& out, std::ostream& err) {

@@ -20,7 +20,7 @@ inline constexpr ModelChoices kClosedLoopChoices{false, false, false};
 
 class ClosedLoopCommand : public Command {
  public:
-  void add_options(CLI::App& command) override {
+  void add_options(Options& command) override {
     command
         .add_option("--input", request_.input_path,
                     "recording: CSV t,a_u, a logger's text, .mat, or a CAN log with --dbc")
@@ -54,7 +54,7 @@ class ClosedLoopCommand : public Command {
     recording_.add_to(command);
   }
 
-  int run(CLI::App& command, std::ostream& out, std::ostream& err) override {
+  int run(Options& command, std::ostream& out, std::ostream& err) override {
     ClosedLoopRequest request = request_;
     request.recording = recording_.resolve();
     const ResolvedModel model = model_.resolve(command, request.setup.plant);

@@ -1,10 +1,10 @@
 // One subcommand of `stickslip`: the options it declares (stored in the object, alive while the
 // App parses) and what it does once parsed. cli.cpp holds the table of them (name, description,
 // factory); everything a test wants to call is in the libraries these commands call.
-// Private to the host library: it exposes CLI11.
+// Private to the host library.
 #pragma once
 
-#include <CLI/CLI.hpp>
+#include "options.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -21,9 +21,9 @@ class Command {
  public:
   virtual ~Command() = default;
   // Declares the options on the subcommand cli.cpp created under the table's name.
-  virtual void add_options(CLI::App& command) = 0;
+  virtual void add_options(Options& command) = 0;
   // Runs the parsed subcommand; returns the exit status (errors are thrown as HostError).
-  virtual int run(CLI::App& command, std::ostream& out, std::ostream& err) = 0;
+  virtual int run(Options& command, std::ostream& out, std::ostream& err) = 0;
 };
 
 // "a, b, c or d" (", ", " or ") for messages, "a | b | c" (" | ", " | ") for help.
@@ -64,13 +64,6 @@ inline BusProgress bus_progress(std::function<void(std::uint64_t, std::uint64_t)
   plain.context = &progress;
   return plain;
 }
-
-// Checks a count option at parse time: "must be a whole number >= 1" (CLI::PositiveNumber would
-// print the smallest positive double as its bound).
-CLI::Validator at_least_one();
-
-// Whether the user gave the option on this subcommand (not merely its default).
-bool given(const CLI::App& command, const char* option);
 
 std::unique_ptr<Command> make_generate_command();
 std::unique_ptr<Command> make_simulate_command();

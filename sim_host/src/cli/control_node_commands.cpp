@@ -30,7 +30,7 @@ void refuse_loopback(const std::string& bus, const char* node, const char* other
 
 class PlantCommand : public Command {
  public:
-  void add_options(CLI::App& command) override {
+  void add_options(Options& command) override {
     command
         .add_option(
             "--input", request_.input_path,
@@ -61,7 +61,7 @@ class PlantCommand : public Command {
     recording_.add_to(command);
   }
 
-  int run(CLI::App& command, std::ostream& out, std::ostream& err) override {
+  int run(Options& command, std::ostream& out, std::ostream& err) override {
     check_bus_name("--bus", request_.bus);
     refuse_loopback(request_.bus, "plant", "controller");
     PlantNodeRequest request = request_;
@@ -110,7 +110,7 @@ class PlantCommand : public Command {
 
 class ControllerCommand : public Command {
  public:
-  void add_options(CLI::App& command) override {
+  void add_options(Options& command) override {
     command.add_option("--bus", request_.bus, "CAN interface, e.g. vcan0")->required();
     model_.add_to(command, request_.setup.plant,
                   "scene file (TOML, docs/scenes/): the seat the observer assumes and dt");
@@ -127,7 +127,7 @@ class ControllerCommand : public Command {
                        "fault injection: stop answering from this sample time on, s");
   }
 
-  int run(CLI::App& command, std::ostream& out, std::ostream& err) override {
+  int run(Options& command, std::ostream& out, std::ostream& err) override {
     check_bus_name("--bus", request_.bus);
     refuse_loopback(request_.bus, "controller", "plant");
     ControllerNodeRequest request = request_;

@@ -10,7 +10,7 @@ namespace {
 
 class DemoCommand : public Command {
  public:
-  void add_options(CLI::App& demo) override {
+  void add_options(Options& demo) override {
     demo.add_option("--duration", request_.duration_s, "s")->capture_default_str();
     demo.add_option("--dt", request_.dt_s, "s")->capture_default_str();
     demo.add_option("--ffk", request_.friction_n, "F_fk = F_fs, N")->capture_default_str();
@@ -23,7 +23,7 @@ class DemoCommand : public Command {
                   "refuse to replace the files of an earlier demo in --out-dir");
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+  int run(Options&, std::ostream& out, std::ostream&) override {
     run_demo(request_, out);
     return kExitOk;
   }

@@ -68,7 +68,7 @@ std::vector<std::string> default_fit(FrictionModel model) {
 
 class FitCommand : public Command {
  public:
-  void add_options(CLI::App& fit) override {
+  void add_options(Options& fit) override {
     fit.add_option("--input", input_,
                    "rig recording: columns t (s), a_u and a_x (m/s^2), optionally x_r (m); or "
                    "any text or CAN log the readers accept, its channels named by the options "
@@ -89,10 +89,10 @@ class FitCommand : public Command {
     fit.add_option("--upper", upper_, "NAME=VALUE (SI): upper bound of a fitted parameter");
     fit.add_option("--travel-noise", request_.travel_noise_m,
                    "RMS noise of x_r, m: weighs the travel residual against a_x's (default 1e-4)")
-        ->check(CLI::PositiveNumber);
+        ->check(OptionCheck::positive);
     fit.add_option("--max-iterations", request_.max_iterations,
                    "Levenberg-Marquardt iterations before the fit gives up (default 100)")
-        ->check(at_least_one());
+        ->check(OptionCheck::at_least_one);
     fit.add_option("--plot", plot_, "write the a_x residual against t as a PNG here (gnuplot)");
     recording_.add_to(fit);
     fit.add_option("--ax-signal", rig_options_.ax_signal,
@@ -111,7 +111,7 @@ class FitCommand : public Command {
         ->group("Recording");
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream& err) override {
+  int run(Options&, std::ostream& out, std::ostream& err) override {
     FitRequest request = request_;
     if (!parse_model(model_.c_str(), request.model) || !is_fit_model(model_)) {
       throw UsageError(fmt::format("--model: unknown model '{}' (expected {}{})", model_,

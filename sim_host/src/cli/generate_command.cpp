@@ -24,7 +24,7 @@ bool is_mat_path(const std::string& path) {
 
 class GenerateCommand : public Command {
  public:
-  void add_options(CLI::App& generate) override {
+  void add_options(Options& generate) override {
     generate
         .add_option(
             "--kind", kind_,
@@ -51,7 +51,7 @@ class GenerateCommand : public Command {
         ->required();
   }
 
-  int run(CLI::App& generate, std::ostream& out, std::ostream&) override {
+  int run(Options& generate, std::ostream& out, std::ostream&) override {
     for (const char* band : {"--band-low", "--band-high"}) {
       if (kind_ != "white" && given(generate, band)) {
         throw UsageError(std::string(band) + ": only --kind white has corners to set; --kind " +
@@ -88,7 +88,7 @@ class GenerateCommand : public Command {
 
  private:
   // Seat-test spectra and white noise (seat_test_spectra.hpp); false for the other kinds.
-  bool run_spectrum(const CLI::App& generate, std::ostream& out) const {
+  bool run_spectrum(const Options& generate, std::ostream& out) const {
     SpectrumSignalSpec spec;
     if (const TargetSpectrum* table = find_seat_test_spectrum(kind_)) {
       spec.spectrum = *table;

@@ -10,7 +10,7 @@ namespace {
 
 class InspectCommand : public Command {
  public:
-  void add_options(CLI::App& inspect) override {
+  void add_options(Options& inspect) override {
     inspect.add_option("file", path_, "recording: text, .mat, or a CAN log")->required();
     inspect.add_option("--dbc", options_.dbc, "DBC file: decode a CAN log's signals");
     inspect.add_option("--signal", options_.signal,
@@ -20,7 +20,7 @@ class InspectCommand : public Command {
     inspect.add_option("--rate", options_.rate_hz, "text without a time column: sample rate, Hz");
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+  int run(Options&, std::ostream& out, std::ostream&) override {
     out << inspect_recording(path_, options_);
     return kExitOk;
   }

@@ -5,14 +5,14 @@
 
 namespace stickslip::host {
 
-void add_sensor_noise_options(CLI::App& command, ClosedLoopSetup& setup) {
+void add_sensor_noise_options(Options& command, ClosedLoopSetup& setup) {
   command.add_option("--a-x-noise", setup.a_x_noise_m_per_s2,
                      "seat accelerometer noise, RMS per sample, m/s^2 (default 0)");
   command.add_option("--x-r-noise", setup.x_r_noise_m,
                      "travel sensor noise, RMS per sample, m (default 0)");
 }
 
-void LoopControllerOptions::add_to(CLI::App& command, ClosedLoopSetup& setup) {
+void LoopControllerOptions::add_to(Options& command, ClosedLoopSetup& setup) {
   command.add_option("--controller", controller_,
                      "passive | skyhook | groundhook | skyhook-semi | groundhook-semi | "
                      "friction-compensation (default passive)");
@@ -34,7 +34,7 @@ void LoopControllerOptions::add_to(CLI::App& command, ClosedLoopSetup& setup) {
   add_sensor_noise_options(command, setup);
 }
 
-void LoopControllerOptions::resolve(const CLI::App& command, ClosedLoopSetup& setup) const {
+void LoopControllerOptions::resolve(const Options& command, ClosedLoopSetup& setup) const {
   if (!parse_controller(controller_, setup.controller)) {
     throw UsageError("--controller " + controller_ + ": expected " +
                      join_choices(controller_names(), ", ", " or ") +

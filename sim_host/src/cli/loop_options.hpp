@@ -2,7 +2,7 @@
 // that the same flags configure the same ControlUnit. Private to the host library.
 #pragma once
 
-#include <CLI/CLI.hpp>
+#include "options.hpp"
 
 #include <string>
 
@@ -11,14 +11,14 @@
 namespace stickslip::host {
 
 // --a-x-noise and --x-r-noise: the plant's sensor noise (closed-loop and plant).
-void add_sensor_noise_options(CLI::App& command, ClosedLoopSetup& setup);
+void add_sensor_noise_options(Options& command, ClosedLoopSetup& setup);
 
 class LoopControllerOptions {
  public:
-  void add_to(CLI::App& command, ClosedLoopSetup& setup);
+  void add_to(Options& command, ClosedLoopSetup& setup);
   // Parses --controller and --observer into `setup`; friction-compensation alone feeds 0.8
   // forward unless --friction-compensation is given. Throws UsageError.
-  void resolve(const CLI::App& command, ClosedLoopSetup& setup) const;
+  void resolve(const Options& command, ClosedLoopSetup& setup) const;
 
  private:
   std::string controller_ = "passive";

@@ -42,7 +42,7 @@ std::string scalar_help(const ModelChoices& choices) {
 }
 
 // The seat's numbers from the scene file, then every flag the command was given over them.
-void apply_scene_file(const CLI::App& command, const Scene& scene, SimulationSetup& setup) {
+void apply_scene_file(const Options& command, const Scene& scene, SimulationSetup& setup) {
   const OscillatorParams& flags = setup.params;
   OscillatorParams merged = scene.params;
   if (given(command, "--mass")) merged.mass_kg = flags.mass_kg;
@@ -82,14 +82,13 @@ void check_scene_for_bus_node(const Scene& scene, const std::string& path) {
 
 }  // namespace
 
-void add_seat_options(CLI::App& command, double& mass_kg, double& stiffness_n_per_m) {
+void add_seat_options(Options& command, double& mass_kg, double& stiffness_n_per_m) {
   command.add_option("--mass", mass_kg, "seat mass m, kg")->capture_default_str();
   command.add_option("--stiffness", stiffness_n_per_m, "spring k, N/m")->capture_default_str();
 }
 
-void add_friction_options(CLI::App& command, OscillatorParams& params, bool ffk_required) {
-  CLI::Option* ffk =
-      command.add_option("--ffk", params.kinetic_friction_n, "kinetic friction F_fk, N");
+void add_friction_options(Options& command, OscillatorParams& params, bool ffk_required) {
+  Option* ffk = command.add_option("--ffk", params.kinetic_friction_n, "kinetic friction F_fk, N");
   if (ffk_required) {
     ffk->required();
   } else {
@@ -98,15 +97,13 @@ void add_friction_options(CLI::App& command, OscillatorParams& params, bool ffk_
   command.add_option("--ffs", params.static_friction_n, "static friction F_fs, N (default: F_fk)");
 }
 
-void default_static_friction(const CLI::App& command, OscillatorParams& params,
-                             const Scene* scene) {
+void default_static_friction(const Options& command, OscillatorParams& params, const Scene* scene) {
   const bool scene_names_it = scene != nullptr && (scene->effects & kStaticFriction) != 0;
   if (!given(command, "--ffs") && !scene_names_it)
     params.static_friction_n = params.kinetic_friction_n;
 }
 
-void ModelOptions::add_to(CLI::App& command, SimulationSetup& setup,
-                          const std::string& scene_help) {
+void ModelOptions::add_to(Options& command, SimulationSetup& setup, const std::string& scene_help) {
   OscillatorParams& p = setup.params;
   command.add_option("--scene", scene_, scene_help);
   command.add_option("--model", model_,
@@ -135,7 +132,7 @@ void ModelOptions::add_to(CLI::App& command, SimulationSetup& setup,
 }
 
 // Every name checked against its list before any file (the scene) is read.
-void ModelOptions::check_names(const CLI::App& command) const {
+void ModelOptions::check_names(const Options& command) const {
   OscillatorParams p;
   ScalarType scalar = ScalarType::float64;
   if (given(command, "--model") && !parse_model(model_.c_str(), p.model)) {
@@ -162,7 +159,7 @@ void ModelOptions::check_names(const CLI::App& command) const {
   }
 }
 
-ResolvedModel ModelOptions::resolve(const CLI::App& command, SimulationSetup& setup) const {
+ResolvedModel ModelOptions::resolve(const Options& command, SimulationSetup& setup) const {
   check_names(command);
   ResolvedModel resolved;
   OscillatorParams& p = setup.params;

@@ -2,10 +2,10 @@
 // law, --integrator, --scalar, the fixed-point ranges and the initial state (simulate, replay,
 // ecu), and the seat and friction options sweep and advise share with them. What a command can
 // run is its ModelChoices: its help lists only those, and anything else is refused when the
-// options are resolved, naming the choice. Private to the host library: it exposes CLI11.
+// options are resolved, naming the choice. Private to the host library.
 #pragma once
 
-#include <CLI/CLI.hpp>
+#include "options.hpp"
 
 #include <optional>
 #include <string>
@@ -45,13 +45,13 @@ class ModelOptions {
   explicit ModelOptions(ModelChoices choices) : choices_(choices) {}
 
   // Declares the options; the numbers go straight into `setup` (read again by resolve()).
-  void add_to(CLI::App& command, SimulationSetup& setup, const std::string& scene_help);
+  void add_to(Options& command, SimulationSetup& setup, const std::string& scene_help);
   // The scene (if any) with the given flags over it, then the model, smoothing, integrator,
   // scalar and F_fs into `setup`. Throws UsageError naming the option.
-  ResolvedModel resolve(const CLI::App& command, SimulationSetup& setup) const;
+  ResolvedModel resolve(const Options& command, SimulationSetup& setup) const;
 
  private:
-  void check_names(const CLI::App& command) const;
+  void check_names(const Options& command) const;
 
   ModelChoices choices_;
   std::string scene_;
@@ -62,11 +62,11 @@ class ModelOptions {
 };
 
 // --mass, --stiffness.
-void add_seat_options(CLI::App& command, double& mass_kg, double& stiffness_n_per_m);
+void add_seat_options(Options& command, double& mass_kg, double& stiffness_n_per_m);
 // --ffk (required or with its default), --ffs (default: F_fk, see default_static_friction).
-void add_friction_options(CLI::App& command, OscillatorParams& params, bool ffk_required);
+void add_friction_options(Options& command, OscillatorParams& params, bool ffk_required);
 // F_fs defaults to F_fk: without --ffs, F_fs is F_fk unless the scene has the static_friction
 // effect (then the scene's F_fs stands).
-void default_static_friction(const CLI::App& command, OscillatorParams& params, const Scene* scene);
+void default_static_friction(const Options& command, OscillatorParams& params, const Scene* scene);
 
 }  // namespace stickslip::host

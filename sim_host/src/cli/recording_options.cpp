@@ -8,7 +8,7 @@
 
 namespace stickslip::host {
 
-void RecordingOptionGroup::add_to(CLI::App& command, bool with_dt, bool with_rate) {
+void RecordingOptionGroup::add_to(Options& command, bool with_dt, bool with_rate) {
   // Options of the command itself (under their own heading in --help), so that every check of
   // a command's options sees them.
   const auto group = &command;
@@ -46,8 +46,7 @@ RecordingOptions RecordingOptionGroup::resolve() const {
   RecordingOptions options = options_;
   for (const auto& [option, value] : {std::pair{rate_, options.rate_hz}, {dt_, options.dt_s}}) {
     if (option != nullptr && option->count() > 0 && !(std::isfinite(value) && value > 0)) {
-      throw UsageError(option->get_name() + ": must be a finite number > 0, got " +
-                       option->as<std::string>());
+      throw UsageError(option->name() + ": must be a finite number > 0, got " + option->text());
     }
   }
   if (!parse_gap_policy(gaps_, options.gaps))

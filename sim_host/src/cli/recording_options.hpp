@@ -1,9 +1,9 @@
 // The recording options of every command that reads a recording (simulate, replay, play, record,
 // sweep, advise, psd, fit): --signal, --dbc, --time, --rate, --unit, --gaps and the model's step
-// --dt, declared once as an option group. Private to the host library: it exposes CLI11.
+// --dt, declared once as an option group. Private to the host library.
 #pragma once
 
-#include <CLI/CLI.hpp>
+#include "options.hpp"
 
 #include <iosfwd>
 #include <string>
@@ -17,15 +17,15 @@ class RecordingOptionGroup {
   // `with_dt`: declare --dt (the model's step) too; commands with their own --dt pass false and
   // set RecordingOptions::dt_s themselves. `with_rate` false: the command's --rate means
   // something else (replay's pace), so text inputs need a time column there.
-  void add_to(CLI::App& command, bool with_dt = true, bool with_rate = true);
+  void add_to(Options& command, bool with_dt = true, bool with_rate = true);
   // The parsed options (--gaps checked: UsageError naming the value).
   RecordingOptions resolve() const;
 
  private:
   RecordingOptions options_;
   std::string gaps_ = "refuse";
-  CLI::Option* rate_ = nullptr;
-  CLI::Option* dt_ = nullptr;
+  Option* rate_ = nullptr;
+  Option* dt_ = nullptr;
 };
 
 // The report's line on `err` when anything was done to the samples.

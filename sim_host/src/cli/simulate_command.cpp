@@ -13,7 +13,7 @@ namespace {
 
 class SimulateCommand : public Command {
  public:
-  void add_options(CLI::App& simulate) override {
+  void add_options(Options& simulate) override {
     simulate
         .add_option("--input", request_.input_path,
                     "recording: CSV t,a_u, a logger's text, .mat, or a CAN log with --dbc")
@@ -26,14 +26,14 @@ class SimulateCommand : public Command {
     simulate
         .add_option("--repetitions", request_.setup.repetitions,
                     "timed runs for ns_per_sample (default 5; 3 above 2e6 steps)")
-        ->check(at_least_one());
+        ->check(OptionCheck::at_least_one);
     simulate.add_flag("--progress", progress_,
                       "print each stage on stderr (on a terminal: the stage still running once "
                       "the run takes over 2 s)");
     recording_.add_to(simulate);
   }
 
-  int run(CLI::App& simulate, std::ostream& out, std::ostream& err) override {
+  int run(Options& simulate, std::ostream& out, std::ostream& err) override {
     SimulateRequest request = request_;
     request.recording = recording_.resolve();
     const ResolvedModel model = model_.resolve(simulate, request.setup);

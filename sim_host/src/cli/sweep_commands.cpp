@@ -45,7 +45,7 @@ void parse_shard(const std::string& text, SweepRequest& request) {
 
 class SweepCommand : public Command {
  public:
-  void add_options(CLI::App& sweep) override {
+  void add_options(Options& sweep) override {
     sweep
         .add_option("--input", request_.inputs,
                     "recording (CSV t,a_u, .mat, a logger's text, a CAN log with --dbc); repeat "
@@ -81,7 +81,7 @@ class SweepCommand : public Command {
     recording_.add_to(sweep);
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream& err) override {
+  int run(Options&, std::ostream& out, std::ostream& err) override {
     const SweepRequest request = resolve();
     const SweepProgress report =
         quiet_ ? SweepProgress() : make_progress_reporter(err, stderr_is_terminal(err));
@@ -142,12 +142,12 @@ class SweepCommand : public Command {
 
 class MergeCommand : public Command {
  public:
-  void add_options(CLI::App& merge) override {
+  void add_options(Options& merge) override {
     merge.add_option("shards", inputs_, "shard CSV files (any order)")->required();
     merge.add_option("--output", output_, "CSV file to write")->required();
   }
 
-  int run(CLI::App&, std::ostream& out, std::ostream&) override {
+  int run(Options&, std::ostream& out, std::ostream&) override {
     merge_sweep_shards(inputs_, output_);
     out << fmt::format("wrote {} from {} shards\n", output_, inputs_.size());
     return kExitOk;

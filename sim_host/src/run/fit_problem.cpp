@@ -73,9 +73,7 @@ bool simulate_parts(const RigRecording& rig, SimulationSetup& setup, FitBuffers&
                     SimulationSummary& statistics) {
   SimulationTrace<double>& run = buffers.run;
   SimulationTrace<double>& part = buffers.part;
-  for (auto* column : {&run.x_r_m, &run.v_r_m_per_s, &run.a_x_m_per_s2, &run.friction_n})
-    column->clear();
-  run.stuck.clear();
+  run.resize(0);  // keeps the columns' capacity for the next evaluation
   double sum_u = 0.0, sum_x = 0.0, stuck = 0.0, samples = 0.0;
   for (std::size_t i = 0; i < rig.segment_count(); ++i) {
     const auto begin = static_cast<std::ptrdiff_t>(rig.segment_begin(i));
@@ -88,12 +86,7 @@ bool simulate_parts(const RigRecording& rig, SimulationSetup& setup, FitBuffers&
     } catch (const HostError&) {
       return false;  // parameters configure() refuses: the solver steps back
     }
-    run.x_r_m.insert(run.x_r_m.end(), part.x_r_m.begin(), part.x_r_m.end());
-    run.v_r_m_per_s.insert(run.v_r_m_per_s.end(), part.v_r_m_per_s.begin(), part.v_r_m_per_s.end());
-    run.a_x_m_per_s2.insert(run.a_x_m_per_s2.end(), part.a_x_m_per_s2.begin(),
-                            part.a_x_m_per_s2.end());
-    run.friction_n.insert(run.friction_n.end(), part.friction_n.begin(), part.friction_n.end());
-    run.stuck.insert(run.stuck.end(), part.stuck.begin(), part.stuck.end());
+    run.append(part);
     const auto n = static_cast<double>(summary.samples);
     sum_u += summary.rms_u * summary.rms_u * n;
     sum_x += summary.rms_x * summary.rms_x * n;

@@ -49,6 +49,15 @@ struct SimulationTrace {
     stuck.resize(rows);
   }
 
+  // Appends `other`'s rows after this trace's (a run made in parts).
+  void append(const SimulationTrace& other) {
+    x_r_m.insert(x_r_m.end(), other.x_r_m.begin(), other.x_r_m.end());
+    v_r_m_per_s.insert(v_r_m_per_s.end(), other.v_r_m_per_s.begin(), other.v_r_m_per_s.end());
+    a_x_m_per_s2.insert(a_x_m_per_s2.end(), other.a_x_m_per_s2.begin(), other.a_x_m_per_s2.end());
+    friction_n.insert(friction_n.end(), other.friction_n.begin(), other.friction_n.end());
+    stuck.insert(stuck.end(), other.stuck.begin(), other.stuck.end());
+  }
+
   void store(std::size_t row, const StepOutput<T>& out) {
     x_r_m[row] = out.x_r_m;
     v_r_m_per_s[row] = out.v_r_m_per_s;

@@ -1,6 +1,6 @@
 // What a newcomer runs into in the first hour, each reproduced from the user's command: an output
 // that is the input, an existing output, a mistyped option or bus, a flag blamed that was never
-// given, a bound printed as 300 digits, options silently combined or ignored, a missing version.
+// given, a bound printed as 309 digits, options silently combined or ignored, a missing version.
 #include <unistd.h>
 
 #include <string>
@@ -121,6 +121,26 @@ TEST(FirstHour, RepetitionsZeroStatesTheBoundPlainly) {
   check_one_line(run_stickslip({"simulate", "--input", in, "--output", dir.file("o.csv"), "--model",
                                 "signum", "--repetitions", "0"}),
                  2, "--repetitions: must be a whole number >= 1, got '0'");
+}
+
+// Every checked number option: the rule and the value typed, never the largest double's 309
+// digits as the bound.
+TEST(FirstHour, EveryNumberBoundIsStatedPlainly) {
+  const struct {
+    std::vector<std::string> arguments;
+    const char* message;
+  } cases[] = {
+      {{"ecu", "--timeout", "-1"}, "--timeout: must be a finite number >= 0, got -1"},
+      {{"ecu", "--timeout", "inf"}, "--timeout: must be a finite number >= 0, got inf"},
+      {{"ecu", "--output-every", "0"}, "--output-every: must be a whole number >= 1, got '0'"},
+      {{"fit", "--input", in, "--travel-noise", "0"},
+       "--travel-noise: must be a finite number > 0, got 0"},
+      {{"fit", "--input", in, "--travel-noise", "1e-4m"},
+       "--travel-noise: must be a finite number > 0, got 1e-4m"},
+      {{"fit", "--input", in, "--max-iterations", "2.5"},
+       "--max-iterations: must be a whole number >= 1, got '2.5'"},
+  };
+  for (const auto& c : cases) check_one_line(run_stickslip(c.arguments), 2, c.message);
 }
 
 TEST(FirstHour, VersionPrintsTheVersionAndTheCommit) {

@@ -40,7 +40,7 @@ struct NodeOptions {
         .add_option("--output-every", output_every,
                     "output cycle: SeatMotion/SeatForce every this many samples")
         ->capture_default_str()
-        ->check(OptionCheck::positive);
+        ->check(OptionCheck::at_least_one);
     command
         .add_option("--outputs", outputs,
                     "full (SeatMotion, SeatForce, SeatStats, SeatScene), reduced (SeatMotion, "

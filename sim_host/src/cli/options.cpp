@@ -2,8 +2,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <exception>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -24,6 +26,26 @@ CLI::Validator at_least_one() {
         return "must be a whole number >= 1, got '" + value + "'";
       },
       "N >= 1");
+}
+
+// CLI11's PositiveNumber and NonNegativeNumber state their upper bound, the largest double, in
+// 309 digits; this states the rule. Infinity and NaN are refused: no option means them.
+CLI::Validator finite_number(bool zero_allowed) {
+  return CLI::Validator(
+      [zero_allowed](std::string& value) -> std::string {
+        std::size_t end = 0;
+        double number = std::numeric_limits<double>::quiet_NaN();
+        try {
+          number = std::stod(value, &end);
+        } catch (const std::exception&) {
+          end = 0;
+        }
+        const bool in_range = number > 0.0 || (zero_allowed && number == 0.0);
+        if (end == value.size() && end > 0 && std::isfinite(number) && in_range) return "";
+        return std::string("must be a finite number ") + (zero_allowed ? ">= 0" : "> 0") +
+               ", got " + value;
+      },
+      zero_allowed ? "NONNEGATIVE" : "POSITIVE");
 }
 
 }  // namespace
@@ -56,10 +78,10 @@ Option* Option::delimiter(char separator) {
 Option* Option::check(OptionCheck check) {
   switch (check) {
     case OptionCheck::positive:
-      option_->check(CLI::PositiveNumber);
+      option_->check(finite_number(false));
       break;
     case OptionCheck::non_negative:
-      option_->check(CLI::NonNegativeNumber);
+      option_->check(finite_number(true));
       break;
     case OptionCheck::at_least_one:
       option_->check(at_least_one());

@@ -17,11 +17,9 @@ namespace stickslip::host {
 
 // Checks of a number at parse time (the message names the option and the value).
 enum class OptionCheck {
-  positive,      // > 0
-  non_negative,  // >= 0
-  // A whole number >= 1 ("must be a whole number >= 1"; CLI11's PositiveNumber would print the
-  // smallest positive double as its bound).
-  at_least_one,
+  positive,      // a finite number > 0
+  non_negative,  // a finite number >= 0
+  at_least_one,  // a whole number >= 1
 };
 
 // One declared option; the setters return the option, so that declarations chain as in CLI11.

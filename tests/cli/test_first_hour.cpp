@@ -139,6 +139,8 @@ TEST(FirstHour, EveryNumberBoundIsStatedPlainly) {
        "--travel-noise: must be a finite number > 0, got 1e-4m"},
       {{"fit", "--input", in, "--max-iterations", "2.5"},
        "--max-iterations: must be a whole number >= 1, got '2.5'"},
+      {{"simulate", "--input", in, "--rate", "0"}, "--rate: must be a finite number > 0, got 0"},
+      {{"psd", "--input", in, "--dt", "nan"}, "--dt: must be a finite number > 0, got nan"},
   };
   for (const auto& c : cases) check_one_line(run_stickslip(c.arguments), 2, c.message);
 }

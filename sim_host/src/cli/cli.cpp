@@ -240,20 +240,19 @@ int parse_and_run(int argc, char** argv, std::ostream& out, std::ostream& err) {
   app.footer(
       "Exit status: 0 success, 1 bad input data or failed file operation, 2 command-line error.");
   std::vector<std::unique_ptr<Command>> commands;
-  std::vector<CLI::App*> apps;
-  std::deque<Options> options;
+  std::deque<Options> options;  // one a subcommand, in the order of kSubcommands
   for (const Subcommand& subcommand : kSubcommands) {
     commands.push_back(subcommand.make());
-    apps.push_back(app.add_subcommand(subcommand.name, subcommand.description));
-    commands.back()->add_options(options.emplace_back(*apps.back()));
+    commands.back()->add_options(
+        options.emplace_back(*app.add_subcommand(subcommand.name, subcommand.description)));
   }
-  for (CLI::App* command : apps) {
-    if (command->get_option_no_throw("--output") != nullptr)
-      command->add_flag("--no-clobber", "refuse to replace an existing output file");
+  for (const Options& command : options) {
+    if (command.app().get_option_no_throw("--output") != nullptr)
+      command.app().add_flag("--no-clobber", "refuse to replace an existing output file");
   }
   refuse_missing_or_unknown_subcommand(argc, argv);
-  for (CLI::App* command : apps)
-    if (command->get_name() == argv[1]) refuse_unknown_options(*command, argc, argv);
+  for (const Options& command : options)
+    if (command.app().get_name() == argv[1]) refuse_unknown_options(command.app(), argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForVersion& version) {
@@ -268,7 +267,7 @@ int parse_and_run(int argc, char** argv, std::ostream& out, std::ostream& err) {
     return kExitUsage;
   }
   for (std::size_t i = 0; i < commands.size(); ++i) {
-    if (!apps[i]->parsed()) continue;
+    if (!options[i].app().parsed()) continue;
     refuse_overlapping_files(options[i]);
     try {
       return commands[i]->run(options[i], out, err);

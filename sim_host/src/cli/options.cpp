@@ -40,8 +40,10 @@ CLI::Validator finite_number(bool zero_allowed) {
         } catch (const std::exception&) {
           end = 0;
         }
-        const bool in_range = number > 0.0 || (zero_allowed && number == 0.0);
-        if (end == value.size() && end > 0 && std::isfinite(number) && in_range) return "";
+        // isfinite first: an ordered comparison with NaN raises FE_INVALID.
+        const bool in_range =
+            std::isfinite(number) && (number > 0.0 || (zero_allowed && number == 0.0));
+        if (end == value.size() && end > 0 && in_range) return "";
         return std::string("must be a finite number ") + (zero_allowed ? ">= 0" : "> 0") +
                ", got " + value;
       },
@@ -127,8 +129,8 @@ Option* Options::get_option(const std::string& name) {
   return &options_.emplace_back(option);
 }
 
-bool Options::given(const char* name) const {
-  const CLI::Option* found = app_->get_option_no_throw(name);
+bool given(const Options& command, const char* option) {
+  const CLI::Option* found = command.app().get_option_no_throw(option);
   return found != nullptr && found->count() > 0;
 }
 

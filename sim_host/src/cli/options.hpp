@@ -5,6 +5,7 @@
 // sanitizers), whether or not the unit uses them. Private to the host library.
 #pragma once
 
+#include <cstddef>
 #include <deque>
 #include <string>
 
@@ -58,9 +59,6 @@ class Options {
   // An option declared before (std::logic_error if there is none: a defect of the command).
   Option* get_option(const std::string& name);
 
-  // Whether the user gave the option (not merely its default); false for an undeclared name.
-  bool given(const char* name) const;
-
   CLI::App& app() const { return *app_; }
 
  private:
@@ -68,9 +66,8 @@ class Options {
   std::deque<Option> options_;  // stable addresses for the pointers handed out
 };
 
-// Whether the user gave the option on this subcommand (not merely its default).
-inline bool given(const Options& command, const char* option) {
-  return command.given(option);
-}
+// Whether the user gave the option on this subcommand (not merely its default); false for an
+// undeclared name.
+bool given(const Options& command, const char* option);
 
 }  // namespace stickslip::host

@@ -1,8 +1,6 @@
 #include "recording_options.hpp"
 
-#include <cmath>
 #include <ostream>
-#include <utility>
 
 #include "stickslip/host/error.hpp"
 
@@ -21,9 +19,9 @@ void RecordingOptionGroup::add_to(Options& command, bool with_dt, bool with_rate
   group->add_option("--time", options_.time,
                     "text: the time column (default: one named t or time, or in s)");
   if (with_rate) {
-    rate_ =
-        group->add_option("--rate", options_.rate_hz, "text without a time column: sample rate, Hz")
-            ->group("Recording");
+    group->add_option("--rate", options_.rate_hz, "text without a time column: sample rate, Hz")
+        ->group("Recording")
+        ->check(OptionCheck::positive);
   }
   group->add_option("--unit", options_.unit,
                     "g | m/s^2 | mm/s^2: the signal's unit over the header's or DBC's "
@@ -34,21 +32,17 @@ void RecordingOptionGroup::add_to(Options& command, bool with_dt, bool with_rate
   for (const char* name : {"--signal", "--dbc", "--time", "--unit", "--gaps"})
     command.get_option(name)->group("Recording");
   if (with_dt) {
-    dt_ = group
-              ->add_option("--dt", options_.dt_s,
-                           "the model's step, s: resample the recording to it (libsoxr) when "
-                           "its rate differs or its times jitter")
-              ->group("Recording");
+    group
+        ->add_option("--dt", options_.dt_s,
+                     "the model's step, s: resample the recording to it (libsoxr) when "
+                     "its rate differs or its times jitter")
+        ->group("Recording")
+        ->check(OptionCheck::positive);
   }
 }
 
 RecordingOptions RecordingOptionGroup::resolve() const {
   RecordingOptions options = options_;
-  for (const auto& [option, value] : {std::pair{rate_, options.rate_hz}, {dt_, options.dt_s}}) {
-    if (option != nullptr && option->count() > 0 && !(std::isfinite(value) && value > 0)) {
-      throw UsageError(option->name() + ": must be a finite number > 0, got " + option->text());
-    }
-  }
   if (!parse_gap_policy(gaps_, options.gaps))
     throw UsageError("--gaps: '" + gaps_ + "' is not refuse, hold or split");
   return options;

@@ -18,14 +18,13 @@ class RecordingOptionGroup {
   // set RecordingOptions::dt_s themselves. `with_rate` false: the command's --rate means
   // something else (replay's pace), so text inputs need a time column there.
   void add_to(Options& command, bool with_dt = true, bool with_rate = true);
-  // The parsed options (--gaps checked: UsageError naming the value).
+  // The parsed options (--gaps checked: UsageError naming the value; --rate and --dt are
+  // checked as they are parsed).
   RecordingOptions resolve() const;
 
  private:
   RecordingOptions options_;
   std::string gaps_ = "refuse";
-  Option* rate_ = nullptr;
-  Option* dt_ = nullptr;
 };
 
 // The report's line on `err` when anything was done to the samples.

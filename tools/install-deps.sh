@@ -8,7 +8,7 @@
 #   tools/install-deps.sh --fuzz     also clang and libFuzzer (tools/fuzz.sh)
 set -euo pipefail
 
-packages=(cmake g++ make cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev
+packages=(cmake g++ make ccache cpputest libcli11-dev nlohmann-json3-dev libfmt-dev libbenchmark-dev libboost-dev
           libtomlplusplus-dev libmatio-dev pkg-config parallel
           # Ceres Solver: the least squares of `stickslip fit` (run/fit_solver.cpp).
           libceres-dev

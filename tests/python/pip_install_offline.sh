@@ -10,9 +10,12 @@ mkdir -p "$scratch/src"
 # A clean copy, as a fresh clone would be (no build trees).
 tar -C "$source_dir" --exclude=./build --exclude=./.git -cf - . | tar -C "$scratch/src" -xf -
 "$python" -m venv --system-site-packages "$scratch/venv"
-if command -v ccache >/dev/null 2>&1; then export CMAKE_ARGS="-DCMAKE_CXX_COMPILER_LAUNCHER=ccache"; fi
+# The build tree where the project's own build has it (build/release in the source tree) and its
+# warnings as errors, as in that build: the compile commands are then the same, and with ccache
+# installed (CMakeLists.txt, STICKSLIP_CCACHE) the objects the project's build compiled are reused.
+export CMAKE_ARGS="-DSTICKSLIP_WARNINGS_AS_ERRORS=ON"
 install=("$scratch/venv/bin/pip" install --no-index --no-cache-dir
-         --config-settings "build-dir=$scratch/build" "$scratch/src")
+         --config-settings "build-dir=$scratch/src/build/release" "$scratch/src")
 offline=()
 if unshare -rn true 2>/dev/null; then offline=(unshare -rn); fi
 echo "pip_install_offline: ${offline[*]} ${install[*]}"

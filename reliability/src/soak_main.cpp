@@ -54,7 +54,7 @@ using namespace stickslip::soak;
 int main(int argc, char** argv) {
   Options o;
   bool usage = false;
-  for (int i = 1; i < argc && !usage; ++i) {
+  for (int i = 1; i < argc && !usage; i += 2) {  // --option value pairs
     const bool has_value = i + 1 < argc;
     const std::string option = argv[i];
     const std::string value = has_value ? argv[i + 1] : "";
@@ -86,7 +86,6 @@ int main(int argc, char** argv) {
     } else {
       usage = true;
     }
-    ++i;
   }
   if (usage || o.samples < 100000 || o.checkpoints < 1 ||
       static_cast<std::uint64_t>(o.checkpoints) > o.samples ||

@@ -45,7 +45,7 @@ Oracle oracle(const std::vector<Sample>& samples, std::size_t end, std::size_t p
     stuck += samples[n].stuck;
   }
   const long double count = end - begin;
-  const long double unit_k = den_hartog_factor(kFfk, kMass, 1.0);
+  const long double unit_k = static_cast<long double>(den_hartog_factor(kFfk, kMass, 1.0));
   return {std::sqrt(x / u), stuck / count / 16777216.0L, unit_k / (std::sqrt(u / count) / 1024.0L)};
 }
 

@@ -2,6 +2,7 @@
 // reference, energy bounded, stick-slip unchanged while the stops are out of reach.
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "CppUTest/TestHarness.h"
@@ -220,7 +221,7 @@ TEST(EndStops, ConfigureNamesTheBadStopParameter) {
   ConfigResult r = model.configure(seat(FrictionModel::linear, 504.0), s);
   STRCMP_CONTAINS("end_stop_travel_m", r.message.c_str());
   s = stops();
-  s.damping_ns_per_m = NAN;
+  s.damping_ns_per_m = std::numeric_limits<double>::quiet_NaN();
   r = model.configure(seat(FrictionModel::linear, 504.0), s);
   STRCMP_CONTAINS("end_stop_damping_ns_per_m", r.message.c_str());
   s = stops();

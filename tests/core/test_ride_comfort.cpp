@@ -2,6 +2,7 @@
 #include <cfenv>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 #include "CppUTest/TestHarness.h"
 #include "stickslip/metrics/iso2631_weighting.hpp"
@@ -109,8 +110,9 @@ TEST(ComfortWeighting, RefusesSampleRatesItCannotServe) {
   BiquadCoefficients sections[stickslip::kWeightingSections];
   CHECK_TRUE(stickslip::design_weighting(ComfortWeighting::wk, 0.0, sections).status ==
              stickslip::Status::out_of_range);
-  CHECK_TRUE(stickslip::design_weighting(ComfortWeighting::wk, NAN, sections).status ==
-             stickslip::Status::not_finite);
+  CHECK_TRUE(stickslip::design_weighting(ComfortWeighting::wk,
+                                         std::numeric_limits<double>::quiet_NaN(), sections)
+                 .status == stickslip::Status::not_finite);
   const stickslip::ConfigResult low =
       stickslip::design_weighting(ComfortWeighting::wd, 1.0, sections);
   CHECK_FALSE(low.ok());

@@ -299,9 +299,9 @@ TEST(EndStopExactness, FloatDampedContactIsExactToFloatRounding) {
   got.stuck_fraction.push_back(0.0);
   for (std::size_t n = 1; n < a_u.size(); ++n) {
     const StepOutput<float> out = model.step(static_cast<float>(a_u[n]));
-    got.x.push_back(out.x_r_m);
-    got.a_x.push_back(out.a_x_m_per_s2);
-    got.stuck_fraction.push_back(out.stuck_fraction);
+    got.x.push_back(static_cast<double>(out.x_r_m));
+    got.a_x.push_back(static_cast<double>(out.a_x_m_per_s2));
+    got.stuck_fraction.push_back(static_cast<double>(out.stuck_fraction));
   }
   const Deviation d = against_reference(got, exact);
   print("float, stick-slip, damped seat and stops", d);

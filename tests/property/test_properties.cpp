@@ -108,7 +108,7 @@ TEST(Properties, PassiveWithoutInput) {
 template <typename T>
 void check_sticking_properties(std::uint64_t seed, int& held_steps, int& stuck_samples) {
   test::SplitMix64 random(seed);
-  constexpr double eps = std::numeric_limits<T>::epsilon();
+  constexpr double eps = static_cast<double>(std::numeric_limits<T>::epsilon());
   for (Integrator integrator : test::kAllIntegrators) {
     for (FrictionModel model : {FrictionModel::stick_slip, FrictionModel::stribeck}) {
       for (int trial = 0; trial < kCasesPerLaw; ++trial) {

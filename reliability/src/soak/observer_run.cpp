@@ -90,7 +90,8 @@ bool ObserverRun<T>::configure() {
   const double eps = static_cast<double>(std::numeric_limits<T>::epsilon());
   u_ = eps / 2.0;
   comfort_.configure(op_.weighting, dt_, u_);
-  exp_gain_ = static_cast<T>(-std::expm1(-dt_ / op_.exponential_time_s));
+  // The gain as the observer rounds it, held in long double.
+  exp_gain_ = static_cast<long double>(static_cast<T>(-std::expm1(-dt_ / op_.exponential_time_s)));
   per_block_ = static_cast<std::uint32_t>(std::round(op_.window_s / (dt_ * double(kBlocks))));
   whole_tolerance_ = 256.0 * eps;  // RunningStatistics / RideComfort: 256-sample blocks
   window_tolerance_ = double(per_block_ + kBlocks) * eps;
@@ -106,8 +107,9 @@ void ObserverRun<T>::reset() {
   observer_.reset(input[0]);
   out_ = observer_.estimate().model;
   stats_.add_sample(input[0], out_.a_x_m_per_s2);
-  whole_.add(static_cast<long double>(input[0]) * input[0],
-             static_cast<long double>(out_.a_x_m_per_s2) * out_.a_x_m_per_s2, 0);
+  whole_.add(
+      static_cast<long double>(input[0]) * static_cast<long double>(input[0]),
+      static_cast<long double>(out_.a_x_m_per_s2) * static_cast<long double>(out_.a_x_m_per_s2), 0);
   comfort_.add(input[0], out_.a_x_m_per_s2);
   was_stuck_ = out_.stuck;
 }
@@ -132,9 +134,10 @@ void ObserverRun<T>::sample(std::uint64_t n, T a_u) {
     if (non_finite_++ == 0) report_.fail("non-finite per-sample observer output", n, 0, 0);
   }
 
-  const long double u_sq = static_cast<long double>(a_u) * a_u;
-  const long double x_sq = static_cast<long double>(out_.a_x_m_per_s2) * out_.a_x_m_per_s2;
-  const long double stuck = out_.stuck_fraction;
+  const long double u_sq = static_cast<long double>(a_u) * static_cast<long double>(a_u);
+  const long double x_sq =
+      static_cast<long double>(out_.a_x_m_per_s2) * static_cast<long double>(out_.a_x_m_per_s2);
+  const long double stuck = static_cast<long double>(out_.stuck_fraction);
   whole_.add(u_sq, x_sq, stuck);
   comfort_.add(a_u, out_.a_x_m_per_s2);
   exp_u_.add(u_sq, exp_gain_, u_);

@@ -119,11 +119,12 @@ struct ComfortReference {
     floor_filter.configure(weighting, 1.0 / dt);
     seat_filter.configure(weighting, 1.0 / dt);
     comfort_dt = 1.0 / (1.0 / dt);
-    running_gain = static_cast<T>(-std::expm1(-comfort_dt / 1.0));
+    running_gain = static_cast<long double>(static_cast<T>(-std::expm1(-comfort_dt / 1.0)));
     u = unit_roundoff;
   }
   void add(T a_floor, T a_seat) {
-    const long double f = floor_filter.step(a_floor), s = seat_filter.step(a_seat);
+    const auto f = static_cast<long double>(floor_filter.step(a_floor));
+    const auto s = static_cast<long double>(seat_filter.step(a_seat));
     const T s_t = static_cast<T>(s);
     seat_peak = std::fabs(s_t) > seat_peak ? std::fabs(s_t) : seat_peak;
     floor_sq.add(f * f, 0, 0);
@@ -139,12 +140,12 @@ struct ComfortReference {
     return static_cast<double>(std::sqrt((seat_sq.total_u + seat_sq.block_u) / total));
   }
   double floor_vdv() const {
-    return static_cast<double>(
-        std::sqrt(std::sqrt((fourth.total_u + fourth.block_u) * comfort_dt)));
+    return static_cast<double>(std::sqrt(
+        std::sqrt((fourth.total_u + fourth.block_u) * static_cast<long double>(comfort_dt))));
   }
   double seat_vdv() const {
-    return static_cast<double>(
-        std::sqrt(std::sqrt((fourth.total_x + fourth.block_x) * comfort_dt)));
+    return static_cast<double>(std::sqrt(
+        std::sqrt((fourth.total_x + fourth.block_x) * static_cast<long double>(comfort_dt))));
   }
 };
 

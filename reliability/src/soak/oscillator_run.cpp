@@ -42,8 +42,8 @@ int soak_oscillator(const Options& o) {
   const T a_x0 = seat.current().a_x_m_per_s2;
   stats.add_sample(input[0], a_x0);
   WholeStreamReference whole;
-  whole.add(static_cast<long double>(input[0]) * input[0], static_cast<long double>(a_x0) * a_x0,
-            0);
+  whole.add(static_cast<long double>(input[0]) * static_cast<long double>(input[0]),
+            static_cast<long double>(a_x0) * static_cast<long double>(a_x0), 0);
   std::uint64_t non_finite = 0;
   const std::uint64_t every = o.samples / static_cast<std::uint64_t>(o.checkpoints);
   std::uint64_t next_checkpoint = every;
@@ -58,8 +58,10 @@ int soak_oscillator(const Options& o) {
     if (!std::isfinite(out.x_r_m) || !std::isfinite(out.v_r_m_per_s) ||
         !std::isfinite(out.a_x_m_per_s2) || !std::isfinite(out.friction_n))
       ++non_finite;
-    whole.add(static_cast<long double>(a_u) * a_u,
-              static_cast<long double>(out.a_x_m_per_s2) * out.a_x_m_per_s2, out.stuck_fraction);
+    whole.add(
+        static_cast<long double>(a_u) * static_cast<long double>(a_u),
+        static_cast<long double>(out.a_x_m_per_s2) * static_cast<long double>(out.a_x_m_per_s2),
+        static_cast<long double>(out.stuck_fraction));
     if (n + 1 == next_checkpoint || n + 1 == o.samples) {
       next_checkpoint += every;
       const double seconds =

@@ -92,13 +92,13 @@ class SeatEstimatorFor final : public SeatEstimatorRun {
   StateEstimate<double> estimate() const override {
     const StateEstimate<T>& e = estimator_.estimate();
     StateEstimate<double> out;
-    out.x_r_m = e.x_r_m;
-    out.v_r_m_per_s = e.v_r_m_per_s;
-    out.friction_n = e.friction_n;
-    out.kinetic_friction_n = e.kinetic_friction_n;
-    out.static_friction_n = e.static_friction_n;
-    out.bias_m_per_s2 = e.bias_m_per_s2;
-    out.relative_acceleration_m_per_s2 = e.relative_acceleration_m_per_s2;
+    out.x_r_m = static_cast<double>(e.x_r_m);
+    out.v_r_m_per_s = static_cast<double>(e.v_r_m_per_s);
+    out.friction_n = static_cast<double>(e.friction_n);
+    out.kinetic_friction_n = static_cast<double>(e.kinetic_friction_n);
+    out.static_friction_n = static_cast<double>(e.static_friction_n);
+    out.bias_m_per_s2 = static_cast<double>(e.bias_m_per_s2);
+    out.relative_acceleration_m_per_s2 = static_cast<double>(e.relative_acceleration_m_per_s2);
     out.stuck = e.stuck;
     out.breakaways = e.breakaways;
     out.kinetic_samples = e.kinetic_samples;

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <optional>
 
@@ -82,7 +83,7 @@ Timing describe_times(const std::vector<double>& t) {
 std::string describe_values(const std::string& label, const std::string& unit,
                             const std::vector<double>& v) {
   std::size_t nans = 0;
-  double low = INFINITY, high = -INFINITY, sum2 = 0.0;
+  double low = std::numeric_limits<double>::infinity(), high = -low, sum2 = 0.0;
   for (double x : v) {
     if (std::isnan(x)) {
       ++nans;

@@ -411,14 +411,14 @@ class EndStopOscillator {
     const T d = direction_;
     if constexpr (kSticking) {
       if (v1 * d <= T(0)) return true;
-      return (acc0 * d < T(0)) & (acc1 * d > T(0));
+      return (acc0 * d < T(0)) && (acc1 * d > T(0));
     } else {
       // A turn of v_r matters only where the turning point could reach a stop: it lies within
       // max|v_r| dt of the ends.
-      const bool turns = (v0 * v1 <= T(0)) | ((v0 * acc0 < T(0)) & (v1 * acc1 > T(0)));
+      const bool turns = (v0 * v1 <= T(0)) || ((v0 * acc0 < T(0)) && (v1 * acc1 > T(0)));
       const T reach = (S::abs(x0) > S::abs(x1) ? S::abs(x0) : S::abs(x1)) +
                       (S::abs(v0) > S::abs(v1) ? S::abs(v0) : S::abs(v1)) * dt_s_;
-      return turns & ((contact_ != 0) | (reach > travel_));
+      return turns && (contact_ != 0 || reach > travel_);
     }
   }
 

@@ -312,7 +312,8 @@ reniced='renice "$0" -p $$ >/dev/null 2>&1; exec "$@"'
 flood_id=123
 json_value() { grep -o "\"$1\":[-0-9.a-z]*" "$2" | tail -n 1 | cut -d: -f2; }
 # Captured SeatInput sample counters (bytes 2-3 of the payload, little endian), one a line.
-# (A table of the 256 bytes: decoding digit by digit took half a minute for a capture in the guest.)
+# Hex bytes are looked up in a table of the 256: decoding a capture digit by digit takes about
+# half a minute in the guest.
 captured_counters() {
   awk -v id="$input_id" -F '[ #]' '
     BEGIN { for (i = 0; i < 256; i++) byte[sprintf("%02X", i)] = i }

@@ -31,9 +31,11 @@ class GenerateCommand : public Command {
             "wideband | lorry | harmonic | a seat-test spectrum or band-limited white noise: " +
                 spectrum_kind_names())
         ->required();
-    generate.add_option("--rms", generator_.rms_m_per_s2,
-                        "RMS of a_u over the file, m/s^2 (seat-test spectra: default the "
-                        "standard's level)");
+    generate
+        .add_option("--rms", generator_.rms_m_per_s2,
+                    "RMS of a_u over the file, m/s^2 (seat-test spectra: default the "
+                    "standard's level)")
+        ->check(OptionCheck::positive);
     generate.add_option("--band-low", band_low_hz_, "white: lower corner, Hz (0: none)")
         ->capture_default_str();
     generate.add_option("--band-high", band_high_hz_, "white: upper corner, Hz")
@@ -59,13 +61,13 @@ class GenerateCommand : public Command {
       }
     }
     if (run_spectrum(generate, out)) return kExitOk;
-    if (!given(generate, "--rms")) throw UsageError("--rms is required");
     GeneratorSpec spec = generator_;
     if (!parse_signal_kind(kind_, spec.kind)) {
       throw UsageError("--kind: unknown kind '" + kind_ +
                        "' (expected wideband, lorry, harmonic or one of " + spectrum_kind_names() +
                        ")");
     }
+    if (!given(generate, "--rms")) throw UsageError("--rms is required");
     std::uint64_t rows = 0;
     if (is_mat_path(output_)) {
       SampledSignal signal;
@@ -104,10 +106,6 @@ class GenerateCommand : public Command {
       return false;
     }
     spec.rms_m_per_s2 = given(generate, "--rms") ? generator_.rms_m_per_s2 : 0.0;
-    if (given(generate, "--rms") && !(spec.rms_m_per_s2 > 0.0)) {
-      throw UsageError(
-          fmt::format("--rms: must be a finite number > 0, got {}", spec.rms_m_per_s2));
-    }
     spec.duration_s = generator_.duration_s;
     spec.dt_s = generator_.dt_s;
     spec.seed = generator_.seed;

@@ -1,5 +1,6 @@
 // simulate --scene: the scene file gives the same run as the equivalent flags, flags override the
-// file, end stops limit the stroke, and a scene's sample rate must match the recording's.
+// file, end stops limit the stroke, and a scene's sample rate must match the recording's unless
+// --dt sets the model's step.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -110,10 +111,32 @@ TEST(SceneSimulate, SceneSampleRateMustMatchTheRecording) {
                            "--output", dir.file("o.csv")});
   CHECK_EQUAL(1, run.status);
   STRCMP_CONTAINS("sample_rate_hz = 1000", run.err.c_str());
+  STRCMP_CONTAINS("--dt 0.001 resamples the recording to the scene's rate", run.err.c_str());
+  CHECK_FALSE(test::exists(dir.file("o.csv")));
   const test::CliRun no_model =
       test::run_stickslip({"simulate", "--input", input, "--output", dir.file("o.csv")});
   CHECK_EQUAL(2, no_model.status);
   STRCMP_CONTAINS("--model is required", no_model.err.c_str());
+}
+
+// --dt is the model's step, as without a scene: the one the refusal names resamples the recording
+// to the scene's rate, and another overrides the scene's rate as the other flags override theirs.
+TEST(SceneSimulate, GivenDtOverridesTheScenesSampleRate) {
+  const std::string coarse = dir.file("coarse.csv");
+  CHECK_EQUAL(0, test::run_stickslip({"generate", "--kind", "lorry", "--rms", "0.35", "--duration",
+                                      "5", "--dt", "0.002", "--output", coarse})
+                     .status);
+  for (const char* dt : {"0.001", "0.002", "0.0005"}) {
+    const std::string out = dir.file(std::string("dt") + dt + ".csv");
+    const test::CliRun run =
+        test::run_stickslip({"simulate", "--scene", scene_path("linear-seat.toml"), "--input",
+                             coarse, "--dt", dt, "--output", out, "--repetitions", "1"});
+    CHECK_EQUAL(0, run.status);
+    DOUBLES_EQUAL(std::stod(dt), stats_of(run)["dt"].get<double>(), 0.0);
+    const std::vector<std::string> rows = test::split_lines(test::read_text(out));
+    const auto samples = static_cast<long>(std::lround(5.0 / std::stod(dt))) + 1;
+    CHECK_EQUAL(samples + 1, static_cast<long>(rows.size()));  // the header and one row a sample
+  }
 }
 
 // The bus commands take the same scene files: replay with the scene equals replay with the flags,

@@ -13,6 +13,7 @@
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/output_file.hpp"
+#include "stickslip/host/run/recording_source.hpp"
 #include "stickslip/host/run/simulation.hpp"
 #include "stickslip/host/signals/random.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
@@ -150,12 +151,7 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
       read_continuous_recording(request.input_path, request.recording, "plant", &result.recording);
   const double dt_s = signal.dt_s;
   result.dt_s = dt_s;
-  if (request.scene_dt_s > 0.0 &&
-      std::fabs(dt_s - request.scene_dt_s) > 1e-9 * request.scene_dt_s) {
-    throw HostError(fmt::format(
-        "{}: dt = {} s, but the scene {} has sample_rate_hz = {} (dt = {} s)", request.input_path,
-        dt_s, request.scene_path, 1.0 / request.scene_dt_s, request.scene_dt_s));
-  }
+  check_scene_rate(request.input_path, dt_s, request.scene_path, request.scene_dt_s);
   if (!signal.f_a_n.empty()) {
     throw UsageError(request.input_path +
                      ": column 'f_a': the plant takes the actuator force from the controller; "

@@ -15,6 +15,7 @@
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/output_file.hpp"
 #include "stickslip/host/run/gnuplot_png.hpp"
+#include "stickslip/host/run/recording_source.hpp"
 #include "stickslip/host/signals/random.hpp"
 #include "stickslip/metrics/ride_comfort.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
@@ -370,12 +371,7 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
   const SampledSignal signal =
       read_continuous_recording(request.input_path, request.recording, "closed-loop", &report);
   const double dt_s = signal.dt_s;
-  if (request.scene_dt_s > 0.0 &&
-      std::fabs(dt_s - request.scene_dt_s) > 1e-9 * request.scene_dt_s) {
-    throw HostError(fmt::format(
-        "{}: dt = {} s, but the scene {} has sample_rate_hz = {} (dt = {} s)", request.input_path,
-        dt_s, request.scene_path, 1.0 / request.scene_dt_s, request.scene_dt_s));
-  }
+  check_scene_rate(request.input_path, dt_s, request.scene_path, request.scene_dt_s);
   if (!signal.f_a_n.empty()) {
     throw UsageError(request.input_path +
                      ": column 'f_a': closed-loop computes the actuator force itself; give it a "

@@ -266,3 +266,28 @@ TEST(ClosedLoopCommand, RefusesAnUnknownControllerAndAForceColumnWithExit2) {
   CHECK_TRUE(with_force.err.find("column 'f_a'") != std::string::npos);
   CHECK_FALSE(test::exists(dir.file("loop.csv")));
 }
+
+// The loop's seat, estimator and controller run in double: the help offers no other scalar and
+// another is refused with exit 2, naming it, before any output.
+TEST(ClosedLoopCommand, OffersAndRunsDoubleOnly) {
+  test::TempDir dir;
+  const std::string input = lorry(dir);
+  for (const char* command : {"closed-loop", "plant", "controller"}) {
+    const test::CliRun help = test::run_stickslip({command, "--help"});
+    CHECK_EQUAL(0, help.status);
+    const std::string::size_type at = help.out.find("--scalar");
+    CHECK_TRUE(at != std::string::npos);
+    const std::string line = help.out.substr(at, help.out.find('\n', at) - at);
+    CHECK_TRUE(line.find("double") != std::string::npos);
+    CHECK_TRUE(line.find("float") == std::string::npos);
+    CHECK_TRUE(line.find("fixed") == std::string::npos);
+  }
+  for (const char* scalar : {"float", "fixed", "fixed32"}) {
+    const test::CliRun run = test::run_stickslip(with(
+        {"closed-loop", "--input", input, "--output", dir.file("loop.csv"), "--scalar", scalar},
+        kSeat));
+    CHECK_EQUAL(2, run.status);
+    CHECK_TRUE(run.err.find(std::string("--scalar ") + scalar + ": ") != std::string::npos);
+    CHECK_FALSE(test::exists(dir.file("loop.csv")));
+  }
+}

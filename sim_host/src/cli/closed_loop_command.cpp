@@ -16,7 +16,7 @@ namespace {
 
 // The core's integrators in double: no reference solver, no fixed point (the state estimator
 // has none), no bus ids.
-inline constexpr ModelChoices kClosedLoopChoices{false, false, false};
+inline constexpr ModelChoices kClosedLoopChoices{false, false, false, true};
 
 class ClosedLoopCommand : public Command {
  public:
@@ -60,7 +60,7 @@ class ClosedLoopCommand : public Command {
     const ResolvedModel model = model_.resolve(command, request.setup.plant);
     if (model.scalar != ScalarType::float64) {
       throw UsageError(fmt::format(
-          "--scalar {}: closed-loop runs in double (the state estimator has no fixed point)",
+          "--scalar {}: closed-loop runs its seat, state estimator and controller in double",
           scalar_name(model.scalar)));
     }
     request.scene_path = model.scene_path;

@@ -17,7 +17,7 @@ namespace stickslip::host {
 namespace {
 
 // The core's integrators in double, as closed-loop.
-inline constexpr ModelChoices kLoopNodeChoices{false, false, false};
+inline constexpr ModelChoices kLoopNodeChoices{false, false, false, true};
 
 void refuse_loopback(const std::string& bus, const char* node, const char* other) {
   if (bus != "loopback") return;

@@ -33,6 +33,7 @@ std::string integrator_help(const ModelChoices& choices) {
 }
 
 std::string scalar_help(const ModelChoices& choices) {
+  if (choices.double_only) return "double (this command runs its seat in double only)";
   const char* laws = "linear, signum, smooth rational, stick-slip; euler, symplectic, exact";
   if (!choices.fixed32) return fmt::format("double | float | fixed (fixed: Q23.40: {})", laws);
   return fmt::format(

@@ -22,6 +22,9 @@ struct ModelChoices {
   // The ECU node runs the scene: its CAN ids must be this build's frame layout and it may not
   // have end stops.
   bool bus_node = false;
+  // The command runs its seat in double only and refuses the other scalars itself (closed-loop,
+  // plant, controller): its help offers no other.
+  bool double_only = false;
 };
 
 // simulate runs everything; the ECU node (replay, ecu) the core's integrators in double, float,

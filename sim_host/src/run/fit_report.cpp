@@ -12,6 +12,7 @@
 #include <string>
 #include <system_error>
 
+#include "fit_start.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/io/output_file.hpp"
 #include "stickslip/host/run/gnuplot_png.hpp"
@@ -67,8 +68,9 @@ std::string fit_report_text(const FitResult& result) {
   }
   text += fmt::format("T_ax: measured {:.4f}, model {:.4f}\n", result.transmissibility_measured,
                       result.transmissibility_model);
-  text += fmt::format("p (share of time stuck): measured {:.4f}, model {:.4f}\n",
-                      result.stick_probability_measured, result.stick_probability_model);
+  text += fmt::format(
+      "p (share of time stuck): measured {:.4f} (seen from a phase's sample {} on), model {:.4f}\n",
+      result.stick_probability_measured, kStuckFilterSamples, result.stick_probability_model);
   text += correlation_lines(result);
   for (const std::string& warning : result.warnings) text += "warning: " + warning + "\n";
   return text;

@@ -13,7 +13,6 @@ namespace stickslip::host {
 namespace {
 
 constexpr double kStandardGravity_m_per_s2 = 9.80665;
-constexpr std::size_t kStuckFilterSamples = 16;
 
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;

@@ -24,6 +24,9 @@ struct RigInspection {
 };
 
 inline constexpr std::size_t kStuckPhaseSamples = 20;
+// The window over which a_x - a_u is averaged to tell a stuck sample: a stuck phase shows from
+// its kStuckFilterSamples-th sample, shorter ones not at all.
+inline constexpr std::size_t kStuckFilterSamples = 16;
 
 // Throws HostError "FILE: ..." when |a_x/a_u| below the natural frequency, where every seat
 // transmits the floor's motion (gain about 1), says one channel is in other units (g: 0.102 or

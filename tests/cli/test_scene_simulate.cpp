@@ -137,6 +137,19 @@ TEST(SceneSimulate, GivenDtOverridesTheScenesSampleRate) {
     const auto samples = static_cast<long>(std::lround(5.0 / std::stod(dt))) + 1;
     CHECK_EQUAL(samples + 1, static_cast<long>(rows.size()));  // the header and one row a sample
   }
+  // closed-loop reads its recording and scene as simulate does.
+  const std::string loop = dir.file("loop.csv");
+  const test::CliRun refused =
+      test::run_stickslip({"closed-loop", "--scene", scene_path("linear-seat.toml"), "--input",
+                           coarse, "--output", loop});
+  CHECK_EQUAL(1, refused.status);
+  STRCMP_CONTAINS("--dt 0.001 resamples the recording to the scene's rate", refused.err.c_str());
+  CHECK_FALSE(test::exists(loop));
+  const test::CliRun run =
+      test::run_stickslip({"closed-loop", "--scene", scene_path("linear-seat.toml"), "--input",
+                           coarse, "--dt", "0.002", "--output", loop});
+  CHECK_EQUAL(0, run.status);
+  CHECK_EQUAL(2501 + 1, static_cast<long>(test::split_lines(test::read_text(loop)).size()));
 }
 
 // The bus commands take the same scene files: replay with the scene equals replay with the flags,

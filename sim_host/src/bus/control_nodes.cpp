@@ -151,7 +151,8 @@ PlantNodeResult run_plant_node(const PlantNodeRequest& request) {
       read_continuous_recording(request.input_path, request.recording, "plant", &result.recording);
   const double dt_s = signal.dt_s;
   result.dt_s = dt_s;
-  check_scene_rate(request.input_path, dt_s, request.scene_path, request.scene_dt_s);
+  check_scene_rate(request.input_path, request.recording, dt_s, request.scene_path,
+                   request.scene_dt_s);
   if (!signal.f_a_n.empty()) {
     throw UsageError(request.input_path +
                      ": column 'f_a': the plant takes the actuator force from the controller; "

@@ -64,8 +64,7 @@ class ClosedLoopCommand : public Command {
           scalar_name(model.scalar)));
     }
     request.scene_path = model.scene_path;
-    // A --dt given overrides the scene's rate: the recording is resampled to it.
-    request.scene_dt_s = request.recording.dt_s > 0.0 ? 0.0 : model.scene_dt_s();
+    request.scene_dt_s = model.scene_dt_s();
     controller_options_.resolve(command, request.setup);
     if (can_resolution_) set_can_resolution(request.setup);
     if (!sweep_.empty()) request.sweep = parse_gain_sweep(sweep_);

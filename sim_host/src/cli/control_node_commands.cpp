@@ -71,8 +71,7 @@ class PlantCommand : public Command {
       throw UsageError(
           fmt::format("--scalar {}: the plant runs in double", scalar_name(model.scalar)));
     request.scene_path = model.scene_path;
-    // A --dt given overrides the scene's rate: the recording is resampled to it.
-    request.scene_dt_s = request.recording.dt_s > 0.0 ? 0.0 : model.scene_dt_s();
+    request.scene_dt_s = model.scene_dt_s();
     if (pace_ == "max") {
       request.pace = Pace::max;
     } else if (pace_ == "realtime") {

@@ -38,10 +38,10 @@ class SimulateCommand : public Command {
     request.recording = recording_.resolve();
     const ResolvedModel model = model_.resolve(simulate, request.setup);
     request.scalar = model.scalar;
-    // simulate_file() checks the scene's sample rate against the recording's; a --dt given
-    // overrides the scene's rate (the recording is resampled to it).
+    // simulate_file() checks the scene's sample rate against the recording's (a --dt given
+    // overrides it).
     request.scene_path = model.scene_path;
-    request.scene_dt_s = request.recording.dt_s > 0.0 ? 0.0 : model.scene_dt_s();
+    request.scene_dt_s = model.scene_dt_s();
     SimulateResult result;
     {
       StageProgress progress(err, "simulate", progress_, stderr_is_terminal(err));

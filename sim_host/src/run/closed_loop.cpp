@@ -371,7 +371,8 @@ ClosedLoopResult closed_loop_file(const ClosedLoopRequest& request) {
   const SampledSignal signal =
       read_continuous_recording(request.input_path, request.recording, "closed-loop", &report);
   const double dt_s = signal.dt_s;
-  check_scene_rate(request.input_path, dt_s, request.scene_path, request.scene_dt_s);
+  check_scene_rate(request.input_path, request.recording, dt_s, request.scene_path,
+                   request.scene_dt_s);
   if (!signal.f_a_n.empty()) {
     throw UsageError(request.input_path +
                      ": column 'f_a': closed-loop computes the actuator force itself; give it a "

@@ -225,9 +225,11 @@ LoadedRecording read_recording(const std::string& path, const RecordingOptions& 
   return loaded;
 }
 
-void check_scene_rate(const std::string& path, double dt_s, const std::string& scene_path,
-                      double scene_dt_s) {
-  if (!(scene_dt_s > 0.0) || std::fabs(dt_s - scene_dt_s) <= 1e-9 * scene_dt_s) return;
+void check_scene_rate(const std::string& path, const RecordingOptions& options, double dt_s,
+                      const std::string& scene_path, double scene_dt_s) {
+  if (options.dt_s > 0.0 || !(scene_dt_s > 0.0) ||
+      std::fabs(dt_s - scene_dt_s) <= 1e-9 * scene_dt_s)
+    return;
   throw HostError(fmt::format(
       "{}: dt = {} s, but the scene {} has sample_rate_hz = {} (dt = {} s); --dt {} resamples the "
       "recording to the scene's rate",

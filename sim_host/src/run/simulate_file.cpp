@@ -258,7 +258,8 @@ SimulateResult simulate_file(const SimulateRequest& request) {
   // CSV, .mat, a logger's text or a CAN log, on the model's step (recording_source.hpp).
   const LoadedRecording recording = read_recording(request.input_path, request.recording);
   const double dt_s = recording.segments.front().dt_s;
-  check_scene_rate(request.input_path, dt_s, request.scene_path, request.scene_dt_s);
+  check_scene_rate(request.input_path, request.recording, dt_s, request.scene_path,
+                   request.scene_dt_s);
   SimulationSetup setup = request.setup;
   setup.params.dt_s = dt_s;
   const std::vector<double>& f_a_n = recording.segments.front().f_a_n;

@@ -79,11 +79,11 @@ LoadedRecording read_recording(const std::string& path, const RecordingOptions& 
 SampledSignal read_continuous_recording(const std::string& path, const RecordingOptions& options,
                                         const char* command, RecordingReport* report = nullptr);
 
-// A scene's sample rate (scene_dt_s > 0) against the recording's step dt_s: HostError naming both
-// files and both steps, and the --dt that resamples the recording to the scene's rate. A --dt of
-// the user's overrides the scene's rate, so the commands pass scene_dt_s = 0 then.
-void check_scene_rate(const std::string& path, double dt_s, const std::string& scene_path,
-                      double scene_dt_s);
+// A scene's sample rate (scene_dt_s > 0) against the step dt_s of the recording read with
+// `options`: HostError naming both files and both steps, and the --dt that resamples the
+// recording to the scene's rate. A --dt given (options.dt_s > 0) overrides the scene's rate.
+void check_scene_rate(const std::string& path, const RecordingOptions& options, double dt_s,
+                      const std::string& scene_path, double scene_dt_s);
 
 // "IN: resampled 500 Hz -> 1000 Hz (libsoxr VHQ), 12 samples regridded (jitter 3.0 %), ..." or
 // "" when nothing was done to the samples.

@@ -184,10 +184,6 @@ RunSpec parse_spec(const py::dict& options) {
     throw HostError(std::string("scalar '") + host::scalar_name(spec.scalar) +
                     "': the reference integrator runs in double only; use scalar='double'");
   }
-  if (spec.scalar == ScalarType::fixed32) {
-    const std::string refusal = host::fixed32_scene_refusal(setup.effects);
-    if (!refusal.empty()) throw HostError("scalar 'fixed32': " + refusal);
-  }
   return spec;
 }
 

@@ -116,24 +116,3 @@ TEST(Cli, UsageErrorsAreOneLineWithStatusTwo) {
   LONGS_EQUAL(2, flag.status);
   LONGS_EQUAL(1, stickslip::test::split_lines(flag.err).size());
 }
-
-TEST(Cli, BusNodeCommandsRefuseFixed32EndStopScenesAtParseTimeBeforeReadingInput) {
-  // The input does not exist: a refusal that names the scalar proves the choice was judged while
-  // parsing, before any file was opened. Q7.24 (the Cortex-M0+ firmware's seat) has no end stops.
-  const std::string scene =
-      std::string(STICKSLIP_SOURCE_DIR) + "/docs/scenes/seat-with-end-stops.toml";
-  const CliRun replay =
-      run_stickslip({"replay", "--input", "no-such-recording.csv", "--output", "no-such-output.csv",
-                     "--scene", scene.c_str(), "--scalar", "fixed32"});
-  LONGS_EQUAL(2, replay.status);
-  STRCMP_CONTAINS("--scalar fixed32: end stops", replay.err.c_str());
-  LONGS_EQUAL(1, stickslip::test::split_lines(replay.err).size());
-  const CliRun ecu = run_stickslip({"ecu", "--bus", "loopback", "--frames", "1", "--scene",
-                                    scene.c_str(), "--scalar", "fixed32"});
-  LONGS_EQUAL(2, ecu.status);
-  STRCMP_CONTAINS("--scalar fixed32: end stops", ecu.err.c_str());
-  // Without end stops the node runs fixed32, and says so in its help.
-  const CliRun replay_help = run_stickslip({"replay", "--help"});
-  LONGS_EQUAL(0, replay_help.status);
-  CHECK(replay_help.out.find("fixed32") != std::string::npos);
-}

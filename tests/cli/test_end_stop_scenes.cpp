@@ -3,6 +3,8 @@
 // and the Q23.40 one through the ECU node bit for bit as simulate does, and what cannot run is
 // refused in one line.
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -127,15 +129,68 @@ TEST(EndStopScenes, ReplayInFixedPointEqualsSimulateBitForBit) {
   CHECK_EQUAL(0, stats_of(replay)["saturated_steps"].get<int>());
 }
 
-// What cannot run is refused in one line, with no output: Q7.24 (its grid tick of dt/2^16 has 8
-// bits), and an integrator other than exact named for the end-stop model.
-TEST(EndStopScenes, RefusesFixed32AndOtherIntegratorsInOneLine) {
+// Q7.24 runs the end-stop scene with the firmware's stroke of 0.1 m as its range (with 1 m the
+// scene's 30 N of friction is below the format's precision, refused naming --ffk): the same
+// contacts as double, nothing saturated, T_ax and p within docs/EMBEDDED.md's fixed-point targets
+// (1 %, 0.01; measured 1.9e-4 and 1.0e-6; tests/host/test_end_stop_fixed32.cpp holds the model to
+// the plain Q7.24 seat's own distance from double).
+TEST(EndStopScenes, SimulateRunsTheSceneInQ724AsDoubleDoes) {
+  const std::vector<std::string> range = {"--displacement-range", "0.1"};
+  const test::CliRun in_double = simulate(range, dir.file("double.csv"));
+  LONGS_EQUAL_TEXT(0, in_double.status, in_double.err.c_str());
+  std::vector<std::string> q724 = range;
+  q724.insert(q724.end(), {"--scalar", "fixed32"});
+  const test::CliRun fixed32 = simulate(q724, dir.file("fixed32.csv"));
+  LONGS_EQUAL_TEXT(0, fixed32.status, fixed32.err.c_str());
+  const nlohmann::json d = stats_of(in_double), q = stats_of(fixed32);
+  STRCMP_EQUAL("fixed32", q["scalar"].get<std::string>().c_str());
+  CHECK(d["end_stop_contacts"].get<int>() > 10);
+  CHECK_EQUAL(d["end_stop_contacts"].get<int>(), q["end_stop_contacts"].get<int>());
+  CHECK_EQUAL(0, q["saturated_steps"].get<int>());
+  const double t_ax = d["T_ax"].get<double>();
+  CHECK(std::fabs(q["T_ax"].get<double>() - t_ax) <= 0.01 * t_ax);
+  CHECK(std::fabs(q["p_stick"].get<double>() - d["p_stick"].get<double>()) <= 0.01);
+  const test::CliRun refused = simulate({"--scalar", "fixed32"}, dir.file("refused.csv"));
+  CHECK_EQUAL(1, refused.status);
+  STRCMP_CONTAINS("--ffk: kinetic_friction_n: in scene units", refused.err.c_str());
+  CHECK_EQUAL(1u, test::split_lines(refused.err).size());
+  CHECK_FALSE(std::filesystem::exists(dir.file("refused.csv")));
+}
+
+// replay --scalar fixed32 runs the end-stop scene through the ECU node's Q7.24 seat (the
+// firmware's word scales and window around the model with stops): its trace is simulate --scalar
+// fixed32's on the same (quantised) samples but for the input's conversion (the node scales the
+// CAN word by an integer factor of 24 bits, simulate divides the value: a unit of the last place
+// apart in some samples), so the same contacts, T_ax and p within 1e-6 (measured 5.2e-8 and
+// 7.2e-8; the plain Q7.24 seat's two paths differ by 1.3e-7 and 3.5e-8 on this recording).
+TEST(EndStopScenes, ReplayRunsTheSceneInQ724AsSimulateDoes) {
+  const std::string replayed = dir.file("replayed.csv"), simulated = dir.file("simulated.csv");
+  const test::CliRun replay = test::run_stickslip(
+      {"replay", "--scene", end_stop_scene(), "--input", hard, "--bus", "loopback", "--scalar",
+       "fixed32", "--displacement-range", "0.1", "--output", replayed});
+  LONGS_EQUAL_TEXT(0, replay.status, replay.err.c_str());
+  const test::CliRun run = test::run_stickslip(
+      {"simulate", "--scene", end_stop_scene(), "--input", replayed, "--scalar", "fixed32",
+       "--displacement-range", "0.1", "--output", simulated, "--repetitions", "1"});
+  LONGS_EQUAL_TEXT(0, run.status, run.err.c_str());
+  const nlohmann::json r = stats_of(replay), s = stats_of(run);
+  STRCMP_EQUAL("fixed32", r["scalar"].get<std::string>().c_str());
+  CHECK(r["end_stop_contacts"].get<int>() > 10);
+  CHECK_EQUAL(s["end_stop_contacts"].get<int>(), r["end_stop_contacts"].get<int>());
+  CHECK_EQUAL(0, r["saturated_steps"].get<int>());
+  const double t_ax = s["T_ax"].get<double>();
+  if (std::getenv("STICKSLIP_TEST_MARGINS") != nullptr) {
+    std::printf("\n    [figure] replay vs simulate, Q7.24: T_ax %.3e, p %.3e",
+                std::fabs(r["T_ax"].get<double>() - t_ax) / t_ax,
+                std::fabs(r["p_stick"].get<double>() - s["p_stick"].get<double>()));
+  }
+  CHECK(std::fabs(r["T_ax"].get<double>() - t_ax) <= 1e-6 * t_ax);
+  CHECK(std::fabs(r["p_stick"].get<double>() - s["p_stick"].get<double>()) <= 1e-6);
+}
+
+// An integrator other than exact is refused for the end-stop model in one line, with no output.
+TEST(EndStopScenes, RefusesOtherIntegratorsInOneLine) {
   const std::string output = dir.file("refused.csv");
-  const test::CliRun fixed32 = simulate({"--scalar", "fixed32"}, output);
-  CHECK_EQUAL(2, fixed32.status);
-  STRCMP_CONTAINS("--scalar fixed32", fixed32.err.c_str());
-  STRCMP_CONTAINS("dt/2^16", fixed32.err.c_str());
-  CHECK_EQUAL(1u, test::split_lines(fixed32.err).size());
   const test::CliRun rk4 = simulate({"--model", "stribeck", "--integrator", "rk4"}, output);
   CHECK_EQUAL(1, rk4.status);
   STRCMP_CONTAINS("exact integrator", rk4.err.c_str());

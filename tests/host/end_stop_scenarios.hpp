@@ -1,18 +1,22 @@
 // What the end-stop tests share (test_end_stop_exactness.cpp, test_end_stop_actuator.cpp,
-// test_end_stop_stribeck.cpp, test_end_stop_fixed.cpp): a seeded wide-band floor at 1 ms, the
-// reference seat with a chosen friction and damping, stops of 2e5 N/m at a chosen travel, and a
-// model's history on an input.
+// test_end_stop_stribeck.cpp, test_end_stop_fixed.cpp, test_end_stop_fixed32.cpp): a seeded
+// wide-band floor at 1 ms, the reference seat with a chosen friction and damping, stops of 2e5 N/m
+// at a chosen travel, a model's history on an input, and how far one history is from another.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 #include "../core/oracles.hpp"
 #include "stickslip/core/scalar.hpp"
 #include "stickslip/host/signals/signal_generator.hpp"
 #include "stickslip/models/end_stops.hpp"
+#include "stickslip/models/oscillator.hpp"
 #include "stickslip/models/step_common.hpp"
 
 namespace stickslip::test::end_stop {
@@ -93,6 +97,53 @@ inline double rms(const std::vector<double>& a) {
   double sum = 0.0;
   for (const double v : a) sum += v * v;
   return std::sqrt(sum / static_cast<double>(a.size()));
+}
+
+// How far a run is from a reference run over `duration_s`.
+struct Deviation {
+  double x = 0.0;     // max |x - x_ref| / max |x_ref|
+  double a_x = 0.0;   // RMS of a_x - a_x,ref over RMS of a_x,ref
+  double t_ax = 0.0;  // relative difference of T_ax = RMS a_x / RMS a_u
+  double p = 0.0;     // difference of the fraction of time stuck
+};
+
+inline Deviation deviation(const std::vector<double>& x, const std::vector<double>& a_x,
+                           double stuck_s, const std::vector<double>& x_ref,
+                           const std::vector<double>& a_ref, double stuck_ref_s,
+                           double duration_s) {
+  Deviation d;
+  double x_scale = 0.0, ex = 0.0, ea = 0.0;
+  for (std::size_t n = 0; n < x.size(); ++n) {
+    x_scale = std::max(x_scale, std::fabs(x_ref[n]));
+    ex = std::max(ex, std::fabs(x[n] - x_ref[n]));
+    ea += (a_x[n] - a_ref[n]) * (a_x[n] - a_ref[n]);
+  }
+  const double a_scale = rms(a_ref);
+  d.x = ex / x_scale;
+  d.a_x = std::sqrt(ea / static_cast<double>(x.size())) / a_scale;
+  d.t_ax = std::fabs(rms(a_x) - a_scale) / a_scale;
+  d.p = std::fabs(stuck_s - stuck_ref_s) / duration_s;
+  return d;
+}
+
+inline Deviation deviation(const History& h, const History& ref, double duration_s) {
+  return deviation(h.x, h.a_x, h.stuck_s, ref.x, ref.a_x, ref.stuck_s, duration_s);
+}
+
+// The figures, with STICKSLIP_TEST_MARGINS=1.
+inline void print(const char* what, const Deviation& d) {
+  if (std::getenv("STICKSLIP_TEST_MARGINS") == nullptr) return;
+  std::printf("\n    [figure] %s: x %.3e, a_x rms %.3e, T_ax %.3e, p %.3e", what, d.x, d.a_x,
+              d.t_ax, d.p);
+}
+
+// The RMS of x_r of the seat without stops (double) on a_u: the travel that puts the stops in
+// frequent contact.
+template <typename Law>
+double rms_free_stroke(const OscillatorParams& p, const std::vector<double>& a_u) {
+  Oscillator<double, Law> plain;
+  if (!plain.configure(p).ok()) return 0.0;
+  return rms(run_history(plain, a_u).x);
 }
 
 }  // namespace stickslip::test::end_stop

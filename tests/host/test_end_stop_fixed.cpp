@@ -37,39 +37,6 @@ History end_stop_history(const OscillatorParams& p, const EndStopParams& s,
   return h;
 }
 
-struct Deviation {
-  double x = 0.0, a_x = 0.0, t_ax = 0.0, p = 0.0;
-};
-
-Deviation deviation(const History& h, const History& ref, double duration_s) {
-  Deviation d;
-  double x_scale = 0.0, ex = 0.0, ea = 0.0;
-  for (std::size_t n = 0; n < h.x.size(); ++n) {
-    x_scale = std::max(x_scale, std::fabs(ref.x[n]));
-    ex = std::max(ex, std::fabs(h.x[n] - ref.x[n]));
-    ea += (h.a_x[n] - ref.a_x[n]) * (h.a_x[n] - ref.a_x[n]);
-  }
-  const double a_scale = rms(ref.a_x);
-  d.x = ex / x_scale;
-  d.a_x = std::sqrt(ea / static_cast<double>(h.x.size())) / a_scale;
-  d.t_ax = std::fabs(rms(h.a_x) - a_scale) / a_scale;
-  d.p = std::fabs(h.stuck_s - ref.stuck_s) / duration_s;
-  return d;
-}
-
-void print(const char* what, const Deviation& d) {
-  if (std::getenv("STICKSLIP_TEST_MARGINS") == nullptr) return;
-  std::printf("\n    [figure] %s: x %.3e, a_x rms %.3e, T_ax %.3e, p %.3e", what, d.x, d.a_x,
-              d.t_ax, d.p);
-}
-
-template <typename Law>
-double rms_free_stroke(const OscillatorParams& p, const std::vector<double>& a_u) {
-  Oscillator<double, Law> plain;
-  CHECK_TRUE(plain.configure(p).ok());
-  return rms(run_history(plain, a_u).x);
-}
-
 }  // namespace
 
 TEST_GROUP(EndStopFixedPoint){};

@@ -37,36 +37,6 @@ History end_stop_history(const OscillatorParams& p, const EndStopParams& s,
   return counted_history(model, a_u, p.dt_s, keep);
 }
 
-struct Deviation {
-  double x = 0.0;     // max |x - x_ref| / max |x_ref|
-  double a_x = 0.0;   // RMS of a_x - a_x,ref over RMS of a_x,ref
-  double t_ax = 0.0;  // relative difference of T_ax = RMS a_x / RMS a_u
-  double p = 0.0;     // difference of the fraction of time stuck
-};
-
-Deviation deviation(const History& h, const std::vector<double>& x_ref,
-                    const std::vector<double>& a_ref, double stuck_ref_s, double duration_s) {
-  Deviation d;
-  double x_scale = 0.0, ex = 0.0, ea = 0.0;
-  for (std::size_t n = 0; n < h.x.size(); ++n) {
-    x_scale = std::max(x_scale, std::fabs(x_ref[n]));
-    ex = std::max(ex, std::fabs(h.x[n] - x_ref[n]));
-    ea += (h.a_x[n] - a_ref[n]) * (h.a_x[n] - a_ref[n]);
-  }
-  const double a_scale = rms(a_ref);
-  d.x = ex / x_scale;
-  d.a_x = std::sqrt(ea / static_cast<double>(h.x.size())) / a_scale;
-  d.t_ax = std::fabs(rms(h.a_x) - a_scale) / a_scale;
-  d.p = std::fabs(h.stuck_s - stuck_ref_s) / duration_s;
-  return d;
-}
-
-void print(const char* what, const Deviation& d) {
-  if (std::getenv("STICKSLIP_TEST_MARGINS") == nullptr) return;
-  std::printf("\n    [figure] %s: x %.3e, a_x rms %.3e, T_ax %.3e, p %.3e", what, d.x, d.a_x,
-              d.t_ax, d.p);
-}
-
 // The FOH input a_u (samples kDt apart) sampled `factor` times finer: the same piecewise linear
 // function of time, so every dt sees the same floor.
 std::vector<double> finer(const std::vector<double>& a_u, std::size_t factor) {
@@ -112,7 +82,7 @@ TEST(EndStopStribeck, StopsOutOfReachEqualThePlainStribeckOscillator) {
     CHECK_TRUE(plain.configure(p).ok());
     const History want = run_history(plain, a_u, kDt, 1);
     const History got = end_stop_history<StribeckStickSlip>(p, stops(10.0, 0.0), a_u);
-    const Deviation d = deviation(got, want.x, want.a_x, want.stuck_s, 20.0);
+    const Deviation d = deviation(got, want, 20.0);
     print(damping > 0 ? "out of reach, stribeck, damped" : "out of reach, stribeck, undamped", d);
     CHECK(want.stuck_s > 1.0);  // the stick paths ran
     CHECK_EQUAL(0u, got.contacts);
@@ -162,7 +132,8 @@ TEST(EndStopStribeck, ContactConvergesToTheReferenceAtFirstOrderInDt) {
     OscillatorParams fine = p;
     fine.dt_s = kDt / static_cast<double>(factor);
     const History got = end_stop_history<StribeckStickSlip>(fine, s, finer(a_u, factor), factor);
-    const Deviation d = deviation(got, exact.x_r_m, exact.a_x_m_per_s2, exact.stuck_time_s, 10.0);
+    const Deviation d = deviation(got.x, got.a_x, got.stuck_s, exact.x_r_m, exact.a_x_m_per_s2,
+                                  exact.stuck_time_s, 10.0);
     std::size_t other_mode = 0, same_mode = 0;
     double error = 0.0;
     for (std::size_t n = 0; n < got.x.size(); ++n) {
@@ -208,7 +179,7 @@ TEST(EndStopStribeck, FloatFollowsDoubleInContact) {
   EndStopOscillator<float, StribeckStickSlip> model;
   CHECK_TRUE(model.configure(p, s).ok());
   const History got = run_history(model, a_u);
-  const Deviation d = deviation(got, want.x, want.a_x, want.stuck_s, 10.0);
+  const Deviation d = deviation(got, want, 10.0);
   print("float vs double, stribeck in contact", d);
   CHECK_EQUAL(want.contacts, model.contacts());
   CHECK_EQUAL(0u, model.event_budget_exhausted());

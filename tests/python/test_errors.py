@@ -49,14 +49,17 @@ def test_fixed_point_refuses_the_models_it_does_not_offer():
         stickslip.simulate(np.zeros(10), 0.001, model="stribeck", ffk=40, ffs=60, scalar="fixed")
 
 
-def test_q7_24_refuses_end_stops_with_the_commands_reason(cli, source_dir, tmp_path):
+def test_q7_24_refuses_what_its_ranges_cannot_hold_with_the_commands_reason(cli, source_dir,
+                                                                            lorry_csv, tmp_path):
+    # The end-stop scene's 30 N of friction is below 2^-14 of the force range 1 m of stroke gives.
     scene = source_dir / "docs" / "scenes" / "seat-with-end-stops.toml"
-    with pytest.raises(ValueError, match=r"^scalar 'fixed32': end stops .*dt/2\^16") as refused:
+    with pytest.raises(ValueError, match=r"^ffk: kinetic_friction_n: in scene units") as refused:
         stickslip.simulate(np.zeros(10), 0.001, scene=scene, scalar="fixed32")
     output = tmp_path / "refused.csv"
     message = cli_error(cli, "simulate", "--scene", scene, "--scalar", "fixed32", "--input",
-                        source_dir / "README.md", "--output", output)
-    assert message.split("--scalar fixed32: ", 1)[1] == core_part(str(refused.value))
+                        lorry_csv, "--output", output)
+    assert message.startswith("stickslip: --ffk: ")
+    assert core_part(message[len("stickslip: "):]) == core_part(str(refused.value))
     assert not output.exists()
 
 

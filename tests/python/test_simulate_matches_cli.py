@@ -75,12 +75,17 @@ def test_scene_file_gives_the_commands_run(cli, lorry_csv, tmp_path, source_dir,
     assert_same_run(trace, stats, cli_trace, cli_stats)
 
 
-@pytest.mark.parametrize("scalar,integrator", [("fixed", None), ("double", "reference")])
+@pytest.mark.parametrize("scalar,integrator",
+                         [("fixed", None), ("fixed32", None), ("double", "reference")])
 def test_end_stop_scene_in_fixed_point_or_the_reference_gives_the_commands_run(
         cli, hard_csv, tmp_path, source_dir, scalar, integrator):
     path = source_dir / "docs" / "scenes" / "seat-with-end-stops.toml"
     flags = ["--scene", path, "--scalar", scalar]
     arguments = dict(scene=path, scalar=scalar)
+    if scalar == "fixed32":
+        # Q7.24 holds the scene's 30 N of friction with the firmware's stroke of 0.1 m.
+        flags += ["--displacement-range", 0.1]
+        arguments["displacement_range"] = 0.1
     if integrator:
         flags += ["--integrator", integrator]
         arguments["integrator"] = integrator

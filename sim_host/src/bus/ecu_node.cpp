@@ -14,6 +14,7 @@
 #include "stickslip/metrics/den_hartog.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
+#include "stickslip/models/scaled_end_stops.hpp"
 #include "stickslip/observer/observer.hpp"
 #include "stickslip/observer/state_estimator.hpp"
 
@@ -237,13 +238,19 @@ std::unique_ptr<SeatModel> make_fixed_model(const SimulationSetup& setup) {
 
 // Q7.24 in scene units: the Cortex-M0+ firmware's seat (can::ScaledSeat, node_seats.hpp), its
 // input and output words by its integer scales, and T_ax, p and K from its window over those
-// words, so the node sends the firmware's frames. The trace and the run's statistics in SI
+// words, so the node sends the firmware's frames; with end stops the same seat around the model
+// with stops in scene units (ScaledEndStopOscillator). The trace and the run's statistics in SI
 // (double).
 template <typename Seat>
 class SeatModelFixed32 final : public SeatModel {
  public:
   explicit SeatModelFixed32(const SimulationSetup& setup) {
-    const ConfigResult configured = seat_.configure(setup.params);
+    ConfigResult configured;
+    if constexpr (kHasEndStops<std::decay_t<decltype(seat_.model().oscillator())>>) {
+      configured = seat_.configure(setup.params, setup.stops);
+    } else {
+      configured = seat_.configure(setup.params);
+    }
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
     if (setup.x0_m != 0.0 || setup.v0_m_per_s != 0.0)
       throw UsageError("--scalar fixed32: the ECU node's seat starts at rest (x0 = v0 = 0)");
@@ -290,8 +297,17 @@ class SeatModelFixed32 final : public SeatModel {
 
 template <typename Law>
 using Fixed32NodeSeat = can::ScaledSeat<Fixed32, Law>;
+template <typename Law>
+using Fixed32NodeSeatWithStops =
+    can::ScaledSeat<Fixed32, Law, ScaledEndStopOscillator<Fixed32, Law>>;
 
 std::unique_ptr<SeatModel> make_fixed32_model(const SimulationSetup& setup) {
+  if (setup.effects & kEndStops) {
+    // No friction, or Coulomb stick-slip, whose configure() refuses any other model by name.
+    if (setup.params.model == FrictionModel::linear)
+      return std::make_unique<SeatModelFixed32<Fixed32NodeSeatWithStops<NoFriction>>>(setup);
+    return std::make_unique<SeatModelFixed32<Fixed32NodeSeatWithStops<CoulombStickSlip>>>(setup);
+  }
   return with_fixed_law<Fixed32NodeSeat>(
       setup.params, [&](auto& seat) -> std::unique_ptr<SeatModel> {
         return std::make_unique<SeatModelFixed32<std::decay_t<decltype(seat)>>>(setup);
@@ -321,12 +337,6 @@ std::uint64_t clock_ns() {
 }
 
 }  // namespace
-
-std::string ecu_node_scalar_refusal(ScalarType scalar, unsigned effects) {
-  if (scalar != ScalarType::fixed32) return {};
-  const std::string refusal = fixed32_scene_refusal(effects);
-  return refusal.empty() ? refusal : "--scalar fixed32: " + refusal;
-}
 
 StateEstimatorParams node_estimator_params(const OscillatorParams& params) {
   StateEstimatorParams p;
@@ -393,8 +403,6 @@ EcuNode::EcuNode(const EcuNodeConfig& config) : config_(config) {
   if (config_.stats_every == 0) config_.stats_every = 1;
   if (config_.output_every == 0) throw UsageError("--output-every: must be >= 1 sample");
   if (config_.setup.reference) throw UsageError("the ECU node runs the core's integrators only");
-  const std::string refusal = ecu_node_scalar_refusal(config_.scalar, config_.setup.effects);
-  if (!refusal.empty()) throw UsageError(refusal);
   if (config_.estimator &&
       (config_.scalar == ScalarType::fixed || config_.scalar == ScalarType::fixed32))
     throw UsageError(

@@ -202,10 +202,6 @@ ResolvedModel ModelOptions::resolve(const Options& command, SimulationSetup& set
                      " is rk4, which fixed point does not offer; give --integrator exact, "
                      "symplectic or euler");
   }
-  if (choices_.bus_node) {
-    const std::string refusal = ecu_node_scalar_refusal(resolved.scalar, setup.effects);
-    if (!refusal.empty()) throw UsageError(refusal);
-  }
   default_static_friction(command, p, resolved.scene ? &*resolved.scene : nullptr);
   return resolved;
 }

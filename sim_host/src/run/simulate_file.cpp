@@ -132,10 +132,6 @@ void check_request(const SimulateRequest& request) {
       throw UsageError("--stats and --output name the same file: " + request.output_path);
     }
   }
-  if (request.scalar == ScalarType::fixed32) {
-    const std::string refusal = fixed32_scene_refusal(request.setup.effects);
-    if (!refusal.empty()) throw UsageError("--scalar fixed32: " + refusal);
-  }
 }
 
 // The loop in the request's scalar type, its trace into `writer`.

@@ -13,6 +13,7 @@
 #include "stickslip/metrics/ride_comfort.hpp"
 #include "stickslip/metrics/running_statistics.hpp"
 #include "stickslip/models/dispatch.hpp"
+#include "stickslip/models/scaled_end_stops.hpp"
 #include "stickslip/models/scaled_oscillator.hpp"
 #include "stickslip/models/scene.hpp"
 
@@ -269,20 +270,25 @@ SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
   });
 }
 
-std::string fixed32_scene_refusal(unsigned effects) {
-  if ((effects & kEndStops) == 0) return {};
-  // In Q7.24's scene units (dt = 1) the grid's tick has 8 significant bits, below the 10 every
-  // fixed-point coefficient must keep.
-  return "end stops locate contacts on a grid of dt/2^16, which Q7.24 holds to 8 bits (it needs "
-         "10); use fixed (Q23.40), double or float";
-}
-
 SimulationSummary simulate_signal_fixed32(const SimulationSetup& setup,
                                           const std::vector<double>& a_u,
                                           SimulationTrace<double>& trace) {
-  const std::string refusal = fixed32_scene_refusal(setup.effects);
-  if (!refusal.empty()) throw UsageError("fixed32: " + refusal);
   prepare_fixed_point_run<Fixed32>(setup, a_u.size(), trace);
+  if (setup.effects & kEndStops) {
+    // The end-stop model in scene units: no friction, or Coulomb stick-slip, whose configure()
+    // refuses any other model by name (as Q23.40's).
+    const auto run = [&](auto& seat) {
+      const ConfigResult configured = seat.configure(setup.params, setup.stops);
+      if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+      return run_fixed_point<Fixed32>(setup, a_u, trace, seat.oscillator(), seat.units());
+    };
+    if (setup.params.model == FrictionModel::linear) {
+      ScaledEndStopOscillator<Fixed32, NoFriction> seat;
+      return run(seat);
+    }
+    ScaledEndStopOscillator<Fixed32, CoulombStickSlip> seat;
+    return run(seat);
+  }
   return with_fixed_law<Fixed32Seat>(setup.params, [&](auto& seat) {
     const ConfigResult configured = seat.configure(setup.params);
     if (!configured.ok()) throw ConfigurationError(configured.message.c_str());

@@ -11,6 +11,9 @@
 //                           scaled_oscillator.hpp, the Cortex-M0+ build): one integer product and
 //                           a rounding shift per signal (CountScale), no float in the step; T_ax,
 //                           p and K from the block window over its own words (word_window.hpp).
+//                           Its third parameter may be another model in scene units with the
+//                           same interface: ScaledEndStopOscillator (models/scaled_end_stops.hpp),
+//                           configured with the stops too (the host node's seat with end stops).
 #pragma once
 
 #include <cmath>
@@ -173,15 +176,17 @@ class ObserverSeat {
   std::uint64_t blocks_ = 0;
 };
 
-template <typename T, typename Law>
+template <typename T, typename Law, typename Model = ScaledOscillator<T, Law>>
 class ScaledSeat {
  public:
   using Scalar = T;
 
-  // Configures the scaled oscillator (it starts at rest) and the word scales of its scene units.
-  // Refuses (out_of_range, naming the signal) a scene whose units no CountScale can carry.
-  ConfigResult configure(const OscillatorParams& si) noexcept {
-    ConfigResult result = model_.configure(si);
+  // Configures the scaled model (it starts at rest; `more`: what else its configure() takes, the
+  // stops of ScaledEndStopOscillator) and the word scales of its scene units. Refuses
+  // (out_of_range, naming the signal) a scene whose units no CountScale can carry.
+  template <typename... More>
+  ConfigResult configure(const OscillatorParams& si, const More&... more) noexcept {
+    ConfigResult result = model_.configure(si, more...);
     if (!result.ok()) return result;
     const SceneUnits& u = model_.units();
     const auto per_bit = [](const SignalSpec& s) { return std::ldexp(1.0, -s.fraction_bits); };
@@ -250,7 +255,7 @@ class ScaledSeat {
   SeatWords last_words() const noexcept { return words(last_); }
 
   const StepOutput<T>& last() const noexcept { return last_; }
-  const ScaledOscillator<T, Law>& model() const noexcept { return model_; }
+  const Model& model() const noexcept { return model_; }
 
  private:
   static constexpr std::int32_t kSignedLimit = kSignedMax;
@@ -272,7 +277,7 @@ class ScaledSeat {
     return w;
   }
 
-  ScaledOscillator<T, Law> model_;
+  Model model_;
   StepOutput<T> last_{};
   CountScale<T> input_, a_x_, x_r_, v_r_, f_f_;
   WordWindow<kSeatWindowBlocks> window_;

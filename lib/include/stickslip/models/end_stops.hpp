@@ -27,7 +27,10 @@
 //
 // Fixed point (Q23.40; no friction or Coulomb): configure() checks the seat free and in contact
 // for the format; inside a tick a second-order step and linear interpolation stand in for the
-// Taylor polynomial (within_tick_interpolated), and saturated steps are counted.
+// Taylor polynomial (within_tick_interpolated), and saturated steps are counted. Q7.24 in scene
+// units (ScaledEndStopOscillator, models/scaled_end_stops.hpp), where a tick of dt/2^16 would keep
+// 8 significant bits: one tick per step, and inside it the mode's cubic polynomial of the exact
+// solution (within_tick_cubic, ScalarTraits::kCubicEventSearch), as Oscillator's Q7.24 search.
 //
 // Common path (no event): one affine map and a few compares, like Oscillator's.
 #pragma once
@@ -40,6 +43,7 @@
 #include "stickslip/core/scalar.hpp"
 #include "stickslip/core/status.hpp"
 #include "stickslip/friction/laws.hpp"
+#include "stickslip/integrators/cubic_segment.hpp"
 #include "stickslip/integrators/discretisation.hpp"
 #include "stickslip/integrators/fixed_point_scaling.hpp"
 #include "stickslip/integrators/step_map.hpp"
@@ -78,8 +82,12 @@ class EndStopOscillator {
   static constexpr bool kSticking = Law::kind == LawKind::sticking;
   // Stribeck: the slip force is held per piece of motion (held_force_), not a constant.
   static constexpr bool kVelocityDependent = Law::velocity_dependent;
-  static constexpr unsigned kTicks = kTicksPerStep;    // 2^16 ticks per step
-  static constexpr unsigned kScanBlock = kTicks / 16;  // the event scan's block
+  // The event grid: 2^16 ticks per step, or in scene units (Q7.24) one tick per step with the
+  // cubic polynomial of the exact solution inside it (ScalarTraits::kCubicEventSearch).
+  static constexpr bool kCubic = S::kCubicEventSearch;
+  static constexpr int kLevels = kCubic ? 0 : kEventLevels;
+  static constexpr unsigned kTicks = 1u << kLevels;
+  static constexpr unsigned kScanBlock = kTicks >= 16 ? kTicks / 16 : 1;  // the event scan's block
   static constexpr int kBudget = kMaxEventsPerStep;
 
  public:
@@ -102,16 +110,28 @@ class EndStopOscillator {
       return result;
     }
     if constexpr (S::kTracksSaturation) {
+      // Fixed point: the edge of the stroke within the range the format keeps for displacements
+      // (a travel it would saturate would silently move the stops).
+      const double displacement_limit = std::ldexp(1.0, T::kIntegerBits - kFixedPointHeadroomBits);
+      if (!(stops.travel_m <= displacement_limit)) {
+        result = refusal(Status::out_of_range);
+        result.message.append("end_stop_travel_m: travel = ")
+            .append(stops.travel_m)
+            .append(" is beyond what the format keeps (<= ")
+            .append(displacement_limit)
+            .append("); raise displacement_range_m to the travel");
+        return result;
+      }
       // Fixed point: the seat's coefficients and intermediates must fit the format, free and in
-      // contact (the stiffer, more damped seat), down to the event grid's tick of dt/2^16.
-      result = check_fixed_point_scene(seat, free_model, T::kIntegerBits, T::kFractionBits,
-                                       kEventLevels);
+      // contact (the stiffer, more damped seat), down to the event grid's tick.
+      result =
+          check_fixed_point_scene(seat, free_model, T::kIntegerBits, T::kFractionBits, kLevels);
       if (!result.ok()) return result;
       OscillatorParams contact = seat;
       contact.stiffness_n_per_m += stops.stiffness_n_per_m;
       contact.damping_ns_per_m += stops.damping_ns_per_m;
       const ConfigResult in_contact = check_fixed_point_scene(
-          contact, contact_model, T::kIntegerBits, T::kFractionBits, kEventLevels);
+          contact, contact_model, T::kIntegerBits, T::kFractionBits, kLevels);
       if (!in_contact.ok()) {
         result.status = in_contact.status;
         result.message
@@ -122,7 +142,11 @@ class EndStopOscillator {
         return result;
       }
     }
-    for (int l = 0; l < kMapLevels; ++l) {
+    if constexpr (kCubic) {
+      result = check_scene_units(seat, free_model, contact_model);
+      if (!result.ok()) return result;
+    }
+    for (int l = 0; l <= kLevels; ++l) {
       maps_[0][l] = StepMap<T>::from_double(free_model.maps[l]);
       maps_[1][l] = StepMap<T>::from_double(contact_model.maps[l]);
     }
@@ -344,6 +368,41 @@ class EndStopOscillator {
     }
     return kMaxTaylorOrder;
   }
+  // Scene units (Q7.24): the cubic polynomial takes the step as its unit of time and the seat's
+  // mass as its unit of mass (ScaledEndStopOscillator converts), and is verified, as
+  // Oscillator's, for seats with (b/m) dt + (k/m) dt^2/2 < 1: here free and in contact.
+  static ConfigResult check_scene_units(const OscillatorParams& seat,
+                                        const DiscreteModel& free_model,
+                                        const DiscreteModel& contact_model) noexcept {
+    ConfigResult result;
+    if (seat.dt_s != 1.0 || seat.mass_kg != 1.0) {
+      result = refusal(Status::out_of_range);
+      result.message.append(seat.dt_s != 1.0 ? "dt_s" : "mass_kg")
+          .append(": this scalar runs in scene units, dt = 1 and m = 1 (ScaledEndStopOscillator)");
+      return result;
+    }
+    const DiscreteModel* models[2] = {&free_model, &contact_model};
+    for (int mode = 0; mode < 2; ++mode) {
+      const double reach =
+          models[mode]->damping_over_mass + 0.5 * models[mode]->stiffness_over_mass;
+      if (!(reach < 1.0)) {
+        result = refusal(Status::out_of_range);
+        // In contact, named by the stop's larger term.
+        const bool damped =
+            models[mode]->damping_over_mass >= 0.5 * models[mode]->stiffness_over_mass;
+        result.message
+            .append(mode == 0
+                        ? "dt_s"
+                        : (damped ? "end_stop_damping_ns_per_m" : "end_stop_stiffness_n_per_m"))
+            .append(mode == 0 ? ": " : ": in contact, ")
+            .append("(b/m) dt + (k/m) dt^2/2 = ")
+            .append(reach)
+            .append(", not below 1: beyond the seats Q7.24's cubic event search is verified for");
+        return result;
+      }
+    }
+    return result;
+  }
   // F_L = m a_u + k x_r + F_stop(x_r): the force friction must hold for the seat to stay put.
   T limit_force(T x, T a_u) const noexcept {
     return mass_kg_ * a_u + stiffness_ * x + stop_spring_force(x);
@@ -356,7 +415,7 @@ class EndStopOscillator {
     const T offset = inv_mass_ * (force_n - stop_stiffness_ * travel_ * T(c));
     const StepMap<T>* maps = maps_[c != 0 ? 1 : 0];
     unsigned at = from;
-    for (int level = 0; level < kMapLevels && count > 0; ++level) {
+    for (int level = 0; level <= kLevels && count > 0; ++level) {
       const unsigned block = kTicks >> level;
       while (count >= block) {
         apply_step_map(maps[level], x, v, -(in.at(T(at) * tick_fraction_) + offset),
@@ -448,10 +507,32 @@ class EndStopOscillator {
                               bool detect) const noexcept;
   Boundary within_tick_interpolated(const Input& in, Position& pos, T& x, T& v,
                                     bool detect) const noexcept;
+  Boundary within_tick_cubic(const Input& in, Position& pos, T& x, T& v,
+                             bool detect) const noexcept;
+  template <typename Segment>
+  static Boundary end_on_segment(const Segment& segment, Boundary found, T end, Position& pos, T& x,
+                                 T& v) noexcept;
   unsigned first_tick_leaving_mode(const Input& in, unsigned lo, unsigned hi, T& x, T& v, T& x_hi,
                                    T& v_hi) const noexcept;
   void enter_mode_at(const Input& in, const Position& pos, Boundary boundary,
                      StopContacts<T>& out) noexcept;
+  // Whether the motion of a tick from x to x_end leaves the mode through the stroke (the first
+  // boundary before x_end): the edge, and f(u) = s (x(u) - edge), which is <= 0 in the mode and
+  // > 0 out, at both ends.
+  struct StrokeCrossing {
+    bool leaves;
+    T edge, s, f_lo, f_hi;
+  };
+  StrokeCrossing stroke_crossing(T x, T x_end) const noexcept {
+    StrokeCrossing c{};
+    c.leaves = contact_ == 0 ? region(x_end) != 0 : x_end * T(contact_) < travel_;
+    if (!c.leaves) return c;
+    c.edge = boundary_ahead(x_end);
+    c.s = contact_ != 0 ? T(-contact_) : (c.edge > T(0) ? T(1) : T(-1));
+    c.f_lo = c.s * (x - c.edge);
+    c.f_hi = c.s * (x_end - c.edge);
+    return c;
+  }
   // The stroke boundary the current mode can leave through towards (x, v): the stop ahead in
   // the free stroke, the stop's edge in contact.
   T boundary_ahead(T x) const noexcept {
@@ -491,7 +572,7 @@ class EndStopOscillator {
     return o;
   }
 
-  StepMap<T> maps_[2][kMapLevels]{};   // [free, contact][level]
+  StepMap<T> maps_[2][kLevels + 1]{};  // [free, contact][level]
   TaylorCoefficients<T> taylor_[2]{};  // [free, contact], one tick
   T mass_kg_{}, inv_mass_{}, stiffness_{}, damping_{};
   T stop_stiffness_{}, stop_damping_{}, travel_{};

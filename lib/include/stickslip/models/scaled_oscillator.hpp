@@ -148,6 +148,28 @@ class CountScale {
   std::uint64_t half_ = 1;  // 2^(shift_ - 1): rounds to nearest
 };
 
+// A refusal of a model configured in scene units ("<parameter>: <quantity> = <value in scene
+// units> ..."), made to say which units they are and what sets L.
+inline void name_scene_units(ConfigResult& result, const SceneUnits& units) noexcept {
+  const StatusMessage inner = result.message;
+  const char* text = inner.c_str();
+  const char* colon = text;
+  while (*colon != '\0' && !(colon[0] == ':' && colon[1] == ' ')) ++colon;
+  result.message.clear();
+  if (*colon == '\0') {
+    result.message.append(text);
+    return;
+  }
+  char parameter[48] = {};
+  for (std::size_t i = 0; i + 1 < sizeof parameter && text + i != colon + 2; ++i)
+    parameter[i] = text[i];
+  result.message.append(parameter);
+  result.message.append("in scene units (time dt, mass m, length L = ")
+      .append(units.length_m)
+      .append(" m, set by displacement_range_m and input_range_m_per_s2), ")
+      .append(colon + 2);
+}
+
 template <typename T, typename Law>
 class ScaledOscillator {
   using S = ScalarTraits<T>;
@@ -169,26 +191,7 @@ class ScaledOscillator {
       return result;
     }
     result = oscillator_.configure(to_scene_units(si, units_));
-    if (!result.ok()) {
-      // "<parameter>: <quantity> = <value in scene units> ...": say which units, and what sets L.
-      const StatusMessage inner = result.message;
-      const char* text = inner.c_str();
-      const char* colon = text;
-      while (*colon != '\0' && !(colon[0] == ':' && colon[1] == ' ')) ++colon;
-      result.message.clear();
-      if (*colon == '\0') {
-        result.message.append(text);
-      } else {
-        char parameter[48] = {};
-        for (std::size_t i = 0; i + 1 < sizeof parameter && text + i != colon + 2; ++i)
-          parameter[i] = text[i];
-        result.message.append(parameter);
-        result.message.append("in scene units (time dt, mass m, length L = ")
-            .append(units_.length_m)
-            .append(" m, set by displacement_range_m and input_range_m_per_s2), ")
-            .append(colon + 2);
-      }
-    }
+    if (!result.ok()) name_scene_units(result, units_);
     return result;
   }
 

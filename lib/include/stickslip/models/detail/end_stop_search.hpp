@@ -14,7 +14,10 @@
 //
 // Loop bounds (the step's work): at most kMaxEventsPerStep events; per event one scan of at most
 // 16 blocks, one bisection of 12 levels, one Taylor tick (the Newton loops are capped at
-// kNewtonIterations and first_crossing at its own cap).
+// kNewtonIterations and first_crossing at its own cap). Q7.24 (one tick per step): per event one
+// cubic polynomial, its v_r root search (kCubicRootNewtonSteps) and at most
+// kCubicStrokeNewtonSteps steps on the stroke boundary (3 at most in tests/host/
+// test_end_stop_fixed32.cpp and on 60 s of 30 m/s^2 white noise with 320 contacts).
 #pragma once
 
 #include "stickslip/models/end_stops.hpp"
@@ -26,6 +29,10 @@ namespace end_stop_detail {
 // safeguarded iterations are far more than a double ever needs (bisection alone halves the
 // bracket to below 2^-48 of a tick).
 inline constexpr int kNewtonIterations = 48;
+// The same in Q7.24 (one tick per step): Newton from the secant, each step doubling the digits,
+// with the bracket's midpoint where a step would leave it; 24 halvings alone reach the format's
+// last place of the step.
+inline constexpr int kCubicStrokeNewtonSteps = 24;
 }  // namespace end_stop_detail
 
 template <typename T, typename Law>
@@ -146,6 +153,8 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
     const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
   if constexpr (S::kTaylorEventSearch) {
     return within_tick_taylor(in, pos, x, v, detect);
+  } else if constexpr (S::kCubicEventSearch) {
+    return within_tick_cubic(in, pos, x, v, detect);
   } else {
     return within_tick_interpolated(in, pos, x, v, detect);
   }
@@ -174,12 +183,9 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
       theta = S::proportion(v, v - v_end);
       found = Boundary::velocity;
     }
-    const bool leaves = contact_ == 0 ? region(x_end) != 0 : x_end * T(contact_) < travel_;
-    if (leaves) {
-      const T edge = boundary_ahead(x_end);
-      const T s = contact_ != 0 ? T(-contact_) : (edge > T(0) ? T(1) : T(-1));
-      const T f_lo = s * (x - edge), f_hi = s * (x_end - edge);
-      const T at = f_lo < T(0) ? S::proportion(-f_lo, f_hi - f_lo) : T(0);
+    const StrokeCrossing c = stroke_crossing(x, x_end);
+    if (c.leaves) {
+      const T at = c.f_lo < T(0) ? S::proportion(-c.f_lo, c.f_hi - c.f_lo) : T(0);
       if (found == Boundary::none || at < theta) {
         theta = at;
         found = Boundary::stroke;
@@ -223,14 +229,10 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
         found = Boundary::velocity;
       }
     }
-    // The stroke boundary before `end`: f(u) = s (x(u) - edge) is <= 0 in the mode, > 0 out.
-    const T x_end = segment.position(end);
-    const bool leaves = contact_ == 0 ? region(x_end) != 0 : x_end * T(contact_) < travel_;
-    if (leaves) {
-      const T edge = boundary_ahead(x_end);
-      const T s = contact_ != 0 ? T(-contact_) : (edge > T(0) ? T(1) : T(-1));
+    const StrokeCrossing c = stroke_crossing(x, segment.position(end));
+    if (c.leaves) {
+      const T edge = c.edge, s = c.s, f_lo = c.f_lo, f_hi = c.f_hi;
       T lo = T(0), hi = end;
-      const T f_lo = s * (x - edge), f_hi = s * (x_end - edge);
       T u = f_lo < T(0) ? lo + (hi - lo) * S::proportion(-f_lo, f_hi - f_lo) : lo;
       const T tolerance = T(4) * S::epsilon();
       for (int i = 0; i < end_stop_detail::kNewtonIterations && f_lo < T(0); ++i) {
@@ -252,6 +254,84 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
       found = Boundary::stroke;
     }
   }
+  return end_on_segment(segment, found, end, pos, x, v);
+}
+
+// Scene units, one tick per step (Q7.24): on the mode's cubic polynomial of the exact solution
+// over the rest of the step (integrators/cubic_segment.hpp), as Oscillator's search. v_r = 0 by
+// CubicSegment::first_crossing() (a dip to 0 and back included); x_r = +-travel by Newton on x_r's
+// polynomial from the secant, kept inside its bracket (the slope is v_r, dt = 1), stopping where
+// x_r is on the edge to one unit of the last place or the step stalls.
+template <typename T, typename Law>
+typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_tick_cubic(
+    const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
+  // Compiled for the scalars whose traits offer the cubic search only (within_tick() calls it for
+  // them alone; the explicit instantiations of the others compile every member).
+  if constexpr (S::kCubicEventSearch) {
+    const int mode = contact_ != 0 ? 1 : 0;
+    const T span = T(1) - pos.frac;
+    T a = seat_acceleration(x, v) - in.at(phi(pos));
+    const bool starting = kSticking && v == T(0);
+    // A slip that starts here departs with a d >= 0 (the stick decision): the opposite is rounding.
+    if (starting && a * direction_ < T(0)) a = T(0);
+    const T jerk =
+        -(stiffness_over_mass_[mode] * v + damping_over_mass_[mode] * a) - (in.a1 - in.a0);
+    const T snap = -(stiffness_over_mass_[mode] * a + damping_over_mass_[mode] * jerk);
+    const CubicSegment<T> segment(x, v, a, jerk, snap);
+    T end = span;
+    Boundary found = Boundary::none;
+    if (detect) {
+      if constexpr (kSticking) {
+        T root = T(0);
+        if (segment.first_crossing(direction_, span, root)) {
+          end = root;
+          found = Boundary::velocity;
+        }
+      }
+      const StrokeCrossing c = stroke_crossing(x, segment.position(end));
+      if (c.leaves) {
+        const T edge = c.edge, s = c.s, f_lo = c.f_lo, f_hi = c.f_hi;
+        T lo = T(0), hi = end;
+        T u = f_lo < T(0) ? hi * S::proportion(-f_lo, f_hi - f_lo) : lo;
+        for (int i = 0; i < end_stop_detail::kCubicStrokeNewtonSteps && f_lo < T(0); ++i) {
+          const T f = s * (segment.position(u) - edge);
+          if (S::abs(f) <= S::epsilon()) break;
+          if (f > T(0)) {
+            hi = u;
+          } else {
+            lo = u;
+          }
+          const T slope = s * segment.velocity(u);
+          const T size = S::abs(f);
+          // Newton's step where it lands inside the bracket (x_r s rises: slope > 0), else the
+          // bracket's midpoint.
+          T next = lo;
+          if (slope > T(0) && size <= slope) {
+            const T change = S::proportion(size, slope);
+            next = f > T(0) ? u - change : u + change;
+          }
+          if (!(next > lo && next < hi)) next = lo + S::divide_by_power_of_two(hi - lo, 1);
+          if (next == u) break;
+          u = next;
+        }
+        end = u;
+        found = Boundary::stroke;
+      }
+    }
+    return end_on_segment(segment, found, end, pos, x, v);
+  } else {
+    (void)in, (void)pos, (void)x, (void)v, (void)detect;
+    return Boundary::none;
+  }
+}
+
+// The end of a within-tick solve on a segment of the mode's exact motion (TaylorSegment,
+// CubicSegment): the state at `end` (the boundary `found`, or the tick's end), v_r = 0 at a
+// velocity boundary, and pos there.
+template <typename T, typename Law>
+template <typename Segment>
+typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::end_on_segment(
+    const Segment& segment, Boundary found, T end, Position& pos, T& x, T& v) noexcept {
   x = segment.position(end);
   v = found == Boundary::velocity ? T(0) : segment.velocity(end);
   if (found == Boundary::none) {

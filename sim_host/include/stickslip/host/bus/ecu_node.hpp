@@ -155,10 +155,6 @@ class EcuNode {
 can::Frame output_frame(const can::MessageSpec& message, std::uint16_t sample_counter,
                         std::uint8_t& alive, std::uint8_t flags, double first, double second);
 
-// Empty when the node runs `scalar` on a scene with `effects` (SimulationSetup::effects); else why
-// not, as one line naming the choice (fixed32, the Cortex-M0+ firmware's seat, has no end stops).
-std::string ecu_node_scalar_refusal(ScalarType scalar, unsigned effects);
-
 // The counters as one JSON object (one line) and as a short human summary.
 std::string fault_counters_json(const can::FaultCounters& counters);
 std::string fault_counters_text(const can::FaultCounters& counters);

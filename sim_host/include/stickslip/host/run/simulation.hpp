@@ -177,15 +177,10 @@ SimulationSummary simulate_signal_fixed(const SimulationSetup& setup,
                                         const std::vector<double>& a_u,
                                         SimulationTrace<double>& trace);
 
-// Why Q7.24 cannot run a scene with these effects (empty if it can), without the scalar's name:
-// the end-stop model's event grid of dt/2^16 does not fit the format. simulate_signal_fixed32
-// throws it as a UsageError; the CLI and the Python module ask first, to refuse a request before
-// they read its input, each naming the scalar as its user wrote it.
-std::string fixed32_scene_refusal(unsigned effects);
-
-// --scalar fixed32: as simulate_signal_fixed, with ScaledOscillator<Fixed32, Law>: the scene in
-// the units configure() chooses from the declared ranges, the input converted to them once per
-// sample and the outputs converted back to SI (double) for the trace and the statistics.
+// --scalar fixed32: as simulate_signal_fixed, with ScaledOscillator<Fixed32, Law> (with end stops
+// ScaledEndStopOscillator<Fixed32, Law>): the scene in the units configure() chooses from the
+// declared ranges, the input converted to them once per sample and the outputs converted back to
+// SI (double) for the trace and the statistics.
 SimulationSummary simulate_signal_fixed32(const SimulationSetup& setup,
                                           const std::vector<double>& a_u,
                                           SimulationTrace<double>& trace);

@@ -40,9 +40,7 @@ OscillatorParams q724_seat(FrictionModel model, double damping, double kinetic_n
 
 // A scaled model's run on a_u (SI) from rest, as a History in SI.
 template <typename Model>
-History scaled_history(Model& model, const OscillatorParams& si, const SceneUnits& units,
-                       const std::vector<double>& a_u) {
-  (void)si;
+History scaled_history(Model& model, const SceneUnits& units, const std::vector<double>& a_u) {
   History h;
   const double a_unit = units.acceleration_m_per_s2();
   const auto record = [&](const StepOutput<Fixed32>& out) {
@@ -71,7 +69,7 @@ History with_stops_q724(const OscillatorParams& p, const EndStopParams& s,
   ScaledEndStopOscillator<Fixed32, Law> scaled;
   const ConfigResult configured = scaled.configure(p, s);
   CHECK_TEXT(configured.ok(), configured.message.c_str());
-  History h = scaled_history(scaled.oscillator(), p, scaled.units(), a_u);
+  History h = scaled_history(scaled.oscillator(), scaled.units(), a_u);
   h.contacts = scaled.oscillator().contacts();
   if (units_out != nullptr) *units_out = scaled.units();
   return h;
@@ -83,7 +81,7 @@ History plain_q724(const OscillatorParams& p, const std::vector<double>& a_u,
   ScaledOscillator<Fixed32, Law> scaled;
   const ConfigResult configured = scaled.configure(p);
   CHECK_TEXT(configured.ok(), configured.message.c_str());
-  History h = scaled_history(scaled.oscillator(), p, scaled.units(), a_u);
+  History h = scaled_history(scaled.oscillator(), scaled.units(), a_u);
   if (units_out != nullptr) *units_out = scaled.units();
   return h;
 }

@@ -14,6 +14,7 @@
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/candump_log.hpp"
 #include "stickslip/host/io/mat_file.hpp"
+#include "stickslip/host/signals/resample.hpp"
 #include "stickslip/host/signals/seat_test_spectra.hpp"
 #include "stickslip/host/signals/signal_generator.hpp"
 #include "stickslip/metrics/den_hartog.hpp"
@@ -40,6 +41,20 @@ py::dict signal_dict(std::vector<double>&& t, std::vector<double>&& a_u, double 
   recording["a_u"] = float64_array(std::move(a_u));
   recording["dt"] = dt_s;
   return recording;
+}
+
+std::vector<double> samples_from(const py::handle& a_u) {
+  auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a_u);
+  if (!array) throw HostError("a_u: expected a 1-D array of samples (m/s^2) or a file path");
+  if (array.ndim() != 1) {
+    throw HostError("a_u: expected a 1-D array of samples, got " + std::to_string(array.ndim()) +
+                    " dimensions");
+  }
+  const std::size_t count = static_cast<std::size_t>(array.shape(0));
+  std::vector<double> samples;
+  reserve_for_writing(samples, count);
+  samples.assign(array.data(), array.data() + count);
+  return samples;
 }
 
 namespace {
@@ -133,10 +148,40 @@ py::dict generate(const std::string& kind, std::optional<double> rms, double dur
   return signal_dict(std::move(t), std::move(a_u), dt_s);
 }
 
+// The CLI's `simulate --dt` on a uniform recording (host::resample_step(), libsoxr): the same
+// samples for the same dt and new dt.
+py::dict resample(const py::handle& a_u, double dt_s, double new_dt_s) {
+  if (!(dt_s > 0.0) || !std::isfinite(dt_s)) {
+    throw HostError("dt: must be a finite number > 0, got " + format_number(dt_s));
+  }
+  if (!(new_dt_s > 0.0) || !std::isfinite(new_dt_s)) {
+    throw HostError("new_dt: must be a finite number > 0, got " + format_number(new_dt_s));
+  }
+  std::vector<double> samples = samples_from(a_u);
+  if (samples.size() < 2) {
+    throw HostError("a_u: resampling needs at least 2 samples, got " +
+                    std::to_string(samples.size()));
+  }
+  for (std::size_t n = 0; n < samples.size(); ++n) {
+    if (!std::isfinite(samples[n])) {
+      throw HostError("a_u = " + format_number(samples[n]) + " at sample " + std::to_string(n) +
+                      ": resampling needs finite samples");
+    }
+  }
+  std::vector<double> resampled;
+  {
+    py::gil_scoped_release release;
+    resampled = host::resample_step(samples, dt_s, new_dt_s);
+  }
+  std::vector<double> t = time_line(resampled.size(), new_dt_s);
+  return signal_dict(std::move(t), std::move(resampled), new_dt_s);
+}
+
 }  // namespace
 
 void bind_readers(py::module_& m) {
   m.def("read_recording", &read_recording, py::arg("path"), py::arg("dt") = 1e-3);
+  m.def("resample", &resample, py::arg("a_u"), py::arg("dt"), py::arg("new_dt"));
   m.def("generate", &generate, py::arg("kind"), py::arg("rms"), py::arg("duration"), py::arg("dt"),
         py::arg("seed") = 1, py::arg("frequency") = 0.0, py::arg("band_low") = 0.5,
         py::arg("band_high") = 20.0);

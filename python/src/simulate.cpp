@@ -77,7 +77,8 @@ RunOutput run_spec(const RunSpec& spec, const std::vector<double>& a_u, double d
   if (spec.scene_dt_s > 0.0 && std::fabs(dt_s - spec.scene_dt_s) > 1e-9 * spec.scene_dt_s) {
     throw HostError("dt = " + format_number(dt_s) + " s, but the scene " + spec.scene_path +
                     " has sample_rate_hz = " + format_number(1.0 / spec.scene_dt_s) +
-                    " (dt = " + format_number(spec.scene_dt_s) + " s)");
+                    " (dt = " + format_number(spec.scene_dt_s) + " s); resample(a_u, dt, " +
+                    format_number(spec.scene_dt_s) + ") puts the recording on the scene's step");
   }
   SimulationSetup setup = spec.setup;
   setup.params.dt_s = dt_s;
@@ -121,21 +122,6 @@ RunOutput run_spec(const RunSpec& spec, const std::vector<double>& a_u, double d
   output.stats_json = host::format_stats_json(
       summary, host::StatsContext{&setup, spec.scalar, input_label, std::string()});
   return output;
-}
-
-// Samples from any 1-D array-like; one memcpy when it is already contiguous float64.
-std::vector<double> samples_from(const py::handle& a_u) {
-  auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a_u);
-  if (!array) throw HostError("a_u: expected a 1-D array of samples (m/s^2) or a file path");
-  if (array.ndim() != 1) {
-    throw HostError("a_u: expected a 1-D array of samples, got " + std::to_string(array.ndim()) +
-                    " dimensions");
-  }
-  const std::size_t count = static_cast<std::size_t>(array.shape(0));
-  std::vector<double> samples;
-  reserve_for_writing(samples, count);
-  samples.assign(array.data(), array.data() + count);
-  return samples;
 }
 
 bool is_path(const py::handle& value) {

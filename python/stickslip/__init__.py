@@ -39,7 +39,8 @@ import os as _os
 from . import _stickslip
 from ._stickslip import Step, Estimate
 
-__all__ = ["simulate", "simulate_batch", "read_recording", "generate", "den_hartog_factor",
+__all__ = ["simulate", "simulate_batch", "read_recording", "resample", "generate",
+           "den_hartog_factor",
            "Oscillator", "Observer", "Step", "Estimate"]
 
 _PARAMETERS = ("model", "mass", "stiffness", "damping", "ffk", "ffs", "stribeck_velocity",
@@ -93,6 +94,18 @@ def read_recording(path, dt=1e-3):
     Returns a dict with numpy arrays t, a_u and the sample interval dt (s).
     """
     return _stickslip.read_recording(_os.fspath(path), dt)
+
+
+def resample(a_u, dt, new_dt):
+    """A uniform recording at sample interval dt put onto new_dt (s), as `stickslip simulate
+    --dt` does (libsoxr, very high quality, its delay removed): the same samples. The span is
+    kept; samples start at t = 0.
+
+    Returns a dict with numpy arrays t = n new_dt, a_u (m/s^2) and dt = new_dt, so that
+    ``simulate(r["a_u"], r["dt"], scene=...)`` runs a scene whose sample rate is not the
+    recording's.
+    """
+    return _stickslip.resample(a_u, dt, new_dt)
 
 
 def generate(kind, rms=None, duration=10.0, dt=1e-3, seed=1, *, frequency=0.0, band_low=0.5,

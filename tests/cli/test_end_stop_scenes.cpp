@@ -197,3 +197,18 @@ TEST(EndStopScenes, RefusesOtherIntegratorsInOneLine) {
   CHECK_EQUAL(1u, test::split_lines(rk4.err).size());
   CHECK_FALSE(std::filesystem::exists(output));
 }
+
+// Signum and the smoothed laws have no stuck state: the refusal names the models that run.
+TEST(EndStopScenes, RefusesLawsWithoutAStuckStateNamingTheModelsThatRun) {
+  const std::string output = dir.file("refused.csv");
+  for (const char* model : {"signum", "smooth"}) {
+    const test::CliRun run = simulate({"--model", model}, output);
+    CHECK_EQUAL(1, run.status);
+    STRCMP_CONTAINS(
+        (std::string("end stops run the linear, stick-slip or stribeck model; got '") + model + "'")
+            .c_str(),
+        run.err.c_str());
+    CHECK_EQUAL(1u, test::split_lines(run.err).size());
+    CHECK_FALSE(std::filesystem::exists(output));
+  }
+}

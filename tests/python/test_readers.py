@@ -62,3 +62,49 @@ def test_mat_recording_gives_the_same_run_as_its_csv(lorry_csv, tmp_path):
 def test_den_hartog_factor_is_the_statistics_K(lorry_csv):
     _, stats = stickslip.simulate(str(lorry_csv), ffk=45)
     assert stickslip.den_hartog_factor(45, 88.4, stats["rms_u"]) == stats["K"]
+
+
+@pytest.mark.parametrize("new_dt", [0.0005, 0.0025, 0.0008])
+def test_resample_gives_the_samples_simulate_dt_runs(cli, lorry_csv, tmp_path, new_dt):
+    out = tmp_path / "out.csv"
+    run_cli(cli, "simulate", "--input", lorry_csv, "--dt", new_dt, "--model", "stick-slip",
+            "--ffk", 45, "--repetitions", 1, "--output", out)
+    table = np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.float64)
+    recording = stickslip.read_recording(lorry_csv)
+    resampled = stickslip.resample(recording["a_u"], recording["dt"], new_dt)
+    assert resampled["dt"] == new_dt
+    assert np.array_equal(resampled["t"], table[:, 0])
+    assert np.array_equal(resampled["a_u"], table[:, 1])
+    trace, _ = stickslip.simulate(resampled["a_u"], resampled["dt"], model="stick-slip", ffk=45)
+    assert np.array_equal(trace["a_x"], table[:, 4])
+
+
+def test_resampled_recording_runs_a_scene_of_another_rate(cli, source_dir, tmp_path):
+    # The lorry scene runs at 1 kHz; the recording is at 400 Hz.
+    scene = source_dir / "docs" / "scenes" / "lorry-seat-stick-slip.toml"
+    recording = stickslip.generate("lorry", rms=0.35, duration=5, dt=0.0025, seed=4)
+    with pytest.raises(ValueError, match=r"resample\(a_u, dt, 0.001\) puts the recording"):
+        stickslip.simulate(recording["a_u"], recording["dt"], scene=scene)
+    resampled = stickslip.resample(recording["a_u"], recording["dt"], 0.001)
+    assert len(resampled["a_u"]) == 5001
+    path = tmp_path / "slow.csv"
+    np.savetxt(path, np.column_stack([recording["t"], recording["a_u"]]), delimiter=",",
+               header="t,a_u", comments="", fmt="%.17g")
+    out = tmp_path / "out.csv"
+    run_cli(cli, "simulate", "--input", path, "--scene", scene, "--dt", 0.001, "--repetitions", 1,
+            "--output", out)
+    table = np.loadtxt(out, delimiter=",", skiprows=1, dtype=np.float64)
+    trace, _ = stickslip.simulate(resampled["a_u"], resampled["dt"], scene=scene)
+    assert np.array_equal(trace["a_x"], table[:, 4])
+
+
+@pytest.mark.parametrize("arguments,message", [
+    ((np.zeros(10), 0.0, 0.001), r"^dt: must be a finite number > 0, got 0$"),
+    ((np.zeros(10), 0.001, -1.0), r"^new_dt: must be a finite number > 0, got -1$"),
+    ((np.zeros(1), 0.001, 0.002), r"^a_u: resampling needs at least 2 samples, got 1$"),
+    ((np.array([0.0, np.nan, 1.0]), 0.001, 0.002),
+     r"^a_u = nan at sample 1: resampling needs finite samples$"),
+])
+def test_resample_refuses_bad_arguments_in_one_line(arguments, message):
+    with pytest.raises(ValueError, match=message):
+        stickslip.resample(*arguments)

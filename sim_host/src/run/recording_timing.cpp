@@ -104,9 +104,7 @@ SampledSignal onto_model_step(const std::string& path, Part part, double step,
   const double t0 = part.t_s.front();
   bool resampled = false;
   if (options.dt_s > 0 && std::fabs(grid_step - options.dt_s) > kJitterTolerance * options.dt_s) {
-    const double span = grid_step * static_cast<double>(values.size() - 1);
-    const auto count = static_cast<std::size_t>(std::floor(span / options.dt_s + 1e-6)) + 1;
-    values = resample_rate(values, 1.0 / grid_step, 1.0 / options.dt_s, count);
+    values = resample_step(values, grid_step, options.dt_s);
     resampled = report.resampled = true;
     report.resampled_to_hz = 1.0 / options.dt_s;
     grid_step = options.dt_s;

@@ -81,4 +81,11 @@ std::vector<double> resample_rate(const std::vector<double>& values, double in_r
   return out;
 }
 
+std::vector<double> resample_step(const std::vector<double>& values, double step_s,
+                                  double new_step_s) {
+  const double span = step_s * static_cast<double>(values.size() - 1);
+  const auto count = static_cast<std::size_t>(std::floor(span / new_step_s + 1e-6)) + 1;
+  return resample_rate(values, 1.0 / step_s, 1.0 / new_step_s, count);
+}
+
 }  // namespace stickslip::host

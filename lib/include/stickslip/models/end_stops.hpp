@@ -100,13 +100,24 @@ class EndStopOscillator {
     if (!result.ok()) return result;
     if (seat.model != Law::model || seat.integrator != Integrator::exact) {
       result = refusal(Status::unsupported);
-      result.message.append("end stops run the '")
-          .append(model_name(Law::model))
-          .append("' model with the exact integrator; got '")
-          .append(model_name(seat.model))
-          .append("' with '")
-          .append(integrator_name(seat.integrator))
-          .append("'");
+      const bool modelled = seat.model == FrictionModel::linear ||
+                            seat.model == FrictionModel::stick_slip ||
+                            seat.model == FrictionModel::stribeck;
+      if (!modelled) {  // the laws the static_assert above admits
+        result.message.append("end stops run the linear, stick-slip or stribeck model; got '")
+            .append(model_name(seat.model))
+            .append("'");
+      } else if (seat.model != Law::model) {  // a model this class is not instantiated for
+        result.message.append("this end-stop model runs the '")
+            .append(model_name(Law::model))
+            .append("' model; got '")
+            .append(model_name(seat.model))
+            .append("'");
+      } else {
+        result.message.append("end stops run the exact integrator; got '")
+            .append(integrator_name(seat.integrator))
+            .append("'");
+      }
       return result;
     }
     if constexpr (S::kTracksSaturation) {

@@ -23,4 +23,10 @@ std::vector<double> spline_onto_grid(const std::vector<double>& t_s,
 std::vector<double> resample_rate(const std::vector<double>& values, double in_rate_hz,
                                   double out_rate_hz, std::size_t out_count);
 
+// A uniform recording at step_s onto new_step_s over the same span, by resample_rate(): the
+// samples at k new_step_s from the first that fall within the span (to a millionth of a step, so
+// that a span that is a whole number of new steps only to rounding keeps its last sample).
+std::vector<double> resample_step(const std::vector<double>& values, double step_s,
+                                  double new_step_s);
+
 }  // namespace stickslip::host

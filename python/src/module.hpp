@@ -78,8 +78,9 @@ inline py::array float64_array(std::vector<double>&& values) {
 // t[n] = n dt, from the index (as the generator writes it), never accumulated.
 std::vector<double> time_line(std::size_t count, double dt_s);
 
-// Samples from any 1-D array-like; one memcpy when it is already contiguous float64.
-std::vector<double> samples_from(const py::handle& a_u);
+// Samples from any 1-D array-like; one memcpy when it is already contiguous float64. `expected`
+// completes the message for anything else ("a_u: expected ...").
+std::vector<double> samples_from(const py::handle& a_u, const char* expected);
 
 py::dict signal_dict(std::vector<double>&& t, std::vector<double>&& a_u, double dt_s);
 

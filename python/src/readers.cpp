@@ -43,9 +43,9 @@ py::dict signal_dict(std::vector<double>&& t, std::vector<double>&& a_u, double 
   return recording;
 }
 
-std::vector<double> samples_from(const py::handle& a_u) {
+std::vector<double> samples_from(const py::handle& a_u, const char* expected) {
   auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a_u);
-  if (!array) throw HostError("a_u: expected a 1-D array of samples (m/s^2) or a file path");
+  if (!array) throw HostError(std::string("a_u: expected ") + expected);
   if (array.ndim() != 1) {
     throw HostError("a_u: expected a 1-D array of samples, got " + std::to_string(array.ndim()) +
                     " dimensions");
@@ -157,7 +157,7 @@ py::dict resample(const py::handle& a_u, double dt_s, double new_dt_s) {
   if (!(new_dt_s > 0.0) || !std::isfinite(new_dt_s)) {
     throw HostError("new_dt: must be a finite number > 0, got " + format_number(new_dt_s));
   }
-  std::vector<double> samples = samples_from(a_u);
+  std::vector<double> samples = samples_from(a_u, "a 1-D array of samples (m/s^2)");
   if (samples.size() < 2) {
     throw HostError("a_u: resampling needs at least 2 samples, got " +
                     std::to_string(samples.size()));
@@ -172,6 +172,12 @@ py::dict resample(const py::handle& a_u, double dt_s, double new_dt_s) {
   {
     py::gil_scoped_release release;
     resampled = host::resample_step(samples, dt_s, new_dt_s);
+  }
+  if (resampled.size() < 2) {
+    throw HostError("new_dt: " + format_number(new_dt_s) + " s leaves " +
+                    std::to_string(resampled.size()) + " of the recording's " +
+                    std::to_string(samples.size()) + " samples at dt = " + format_number(dt_s) +
+                    " s (at least 2 are needed)");
   }
   std::vector<double> t = time_line(resampled.size(), new_dt_s);
   return signal_dict(std::move(t), std::move(resampled), new_dt_s);

@@ -174,7 +174,9 @@ Recording recording_from(const py::handle& a_u, const py::object& dt) {
   if (!(recording.dt_s > 0.0) || !std::isfinite(recording.dt_s)) {
     throw HostError("dt: must be a finite number > 0, got " + format_number(recording.dt_s));
   }
-  recording.a_u = samples_from(a_u);  // t only when a trace is returned (time_line())
+  recording.a_u =
+      samples_from(a_u, "a 1-D array of samples (m/s^2) or a file path");  // t only when a trace is
+                                                                           // returned (time_line())
   return recording;
 }
 

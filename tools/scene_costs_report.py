@@ -75,11 +75,22 @@ for scalar in ("double", "float"):
                 ins_ratio = f"{value / base_ins:.2f}"
         lines.append(f"| {short} | {effects_doc.get(short, '')} | {ns * 1e9:.2f} | {ns / base_ns:.2f} | {ins} | {ins_ratio} | "
                      f"{b.get('p_stick', 0):.3f} | {b.get('events_per_1k', 0):.1f} |")
-linear = medians.get("scene/double/spring+damper")
-base = medians.get("scene/double/hand-written-linear")
-if linear and base:
-    ratio = linear["time_per_sample"] / base["time_per_sample"]
+ratios = []
+for f in sorted(os.listdir(work)):
+    if not (f.startswith("linear-") and f.endswith(".json")):
+        continue
+    run = {b["run_name"]: b for b in json.load(open(os.path.join(work, f)))["benchmarks"]
+           if b.get("run_type") == "aggregate" and b.get("aggregate_name") == "median"}
+    ratios.append(run["scene/double/spring+damper"]["time_per_sample"]
+                  / run["scene/double/hand-written-linear"]["time_per_sample"])
+if ratios:
+    ordered = sorted(ratios)
+    ratio = ordered[len(ordered) // 2]
     verdict = "met" if ratio <= 1.05 else "missed"
     lines.append(f"\n**Target: the linear scene within 5 % of the hand-written oscillator (double, time):** "
-                 f"{ratio:.3f}, {verdict}.\n")
+                 f"{ratio:.3f}, {verdict}: the median over {len(ratios)} separate processes, each the ratio "
+                 f"of the two loops' medians of 7 interleaved repetitions (per process: "
+                 f"{', '.join(f'{r:.3f}' for r in ratios)}: on a shared machine it moves from one process "
+                 f"to the next by more than within one, so the tables' single run is no verdict). "
+                 f"Instructions: the tables' 'vs hand-written' column.\n")
 open(out, "w").write("\n".join(lines) + "\n")

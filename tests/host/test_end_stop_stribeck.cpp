@@ -15,6 +15,8 @@
 #include "end_stop_scenarios.hpp"
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/host/run/reference_solver.hpp"
+#include "stickslip/host/signals/signal_generator.hpp"
+#include "stickslip/integrators/discretisation.hpp"
 #include "stickslip/models/end_stops.hpp"
 #include "stickslip/models/oscillator.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
@@ -85,6 +87,52 @@ TEST(EndStopStribeck, StopsOutOfReachEqualThePlainStribeckOscillator) {
     const Deviation d = deviation(got, want, 20.0);
     print(damping > 0 ? "out of reach, stribeck, damped" : "out of reach, stribeck, undamped", d);
     CHECK(want.stuck_s > 1.0);  // the stick paths ran
+    CHECK_EQUAL(0u, got.contacts);
+    CHECK(d.x <= 1e-12);
+    CHECK(d.a_x <= 1e-12);
+    CHECK(d.p <= 1e-12);
+  }
+}
+
+// The same where the plain oscillator's event search bisects the step (a tick level above 0:
+// rate * dt above 1/16, from a stiffer seat or a longer step): a piece of slip that begins or
+// ends inside the step is still held at the force where it starts, not re-sampled at the
+// blocks the search visits, so the two models agree to rounding at every rate, other seats,
+// floors and Stribeck velocities included.
+TEST(EndStopStribeck, StopsOutOfReachEqualThePlainStribeckOscillatorWhereItsSearchBisects) {
+  struct Case {
+    double mass_kg, stiffness, damping, dt_s, kinetic_n, static_n, stribeck_m_per_s;
+    SignalKind kind;
+    double rms;
+    std::uint64_t seed;
+  } cases[] = {
+      {88.4, 11500.0, 504.0, 4e-3, 25.0, 30.0, 0.01, SignalKind::wideband, 0.8, 3},
+      {61.0, 20531.0, 0.0, 3.59e-3, 23.0, 31.0, 0.002, SignalKind::wideband, 2.0, 61},
+      {50.0, 30000.0, 800.0, 3e-3, 12.0, 18.0, 0.015, SignalKind::lorry, 0.5, 8},
+      {88.4, 11500.0, 0.0, 8e-3, 30.0, 39.0, 0.04, SignalKind::lorry, 1.5, 17},
+  };
+  for (const Case& c : cases) {
+    OscillatorParams p = stribeck_seat(c.damping, c.kinetic_n, c.static_n);
+    p.mass_kg = c.mass_kg;
+    p.stiffness_n_per_m = c.stiffness;
+    p.dt_s = c.dt_s;
+    p.stribeck_velocity_m_per_s = c.stribeck_m_per_s;
+    CHECK(event_search_plan(p, 0x1p-52).tick_level > 0);
+    GeneratorSpec spec;
+    spec.kind = c.kind;
+    spec.rms_m_per_s2 = c.rms;
+    spec.duration_s = 20.0;
+    spec.dt_s = c.dt_s;
+    spec.seed = c.seed;
+    const std::vector<double> a_u = generate_signal(spec);
+    Oscillator<double, StribeckStickSlip> plain;
+    CHECK_TRUE(plain.configure(p).ok());
+    const History want = run_history(plain, a_u, c.dt_s, 1);
+    const History got = end_stop_history<StribeckStickSlip>(p, stops(10.0, 0.0), a_u);
+    const Deviation d = deviation(got, want, c.dt_s * static_cast<double>(a_u.size() - 1));
+    print("out of reach, stribeck, search bisecting", d);
+    test::note_margin("stribeck, search bisecting: stuck s", want.stuck_s, 0.01);
+    CHECK(want.stuck_s > 0.01);  // sticks and break-aways inside steps, besides the reversals
     CHECK_EQUAL(0u, got.contacts);
     CHECK(d.x <= 1e-12);
     CHECK(d.a_x <= 1e-12);

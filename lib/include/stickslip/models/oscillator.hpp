@@ -460,6 +460,8 @@ class Oscillator {
   STICKSLIP_COMPACT_INLINE bool slip(Position& pos, T& x, T& v, T d, const Input& in,
                                      const Force& force, bool starting = false,
                                      const WholeSlip<T>* whole_step = nullptr) const noexcept;
+  STICKSLIP_COMPACT_INLINE bool slip_piece(Position& pos, T d, const Input& in, bool starting,
+                                           const WholeSlip<T>* whole_step) noexcept;
   STICKSLIP_OUT_OF_LINE int step_held(const Input& in) noexcept;
   STICKSLIP_OUT_OF_LINE bool whole_step_slips(const Input& in, StepOutput<T>& out) noexcept;
   STICKSLIP_OUT_OF_LINE int step_sticking(const Input& in, T& stuck_fraction,

@@ -386,6 +386,24 @@ bool Oscillator<T, Law>::whole_step_slips(const Input& in, StepOutput<T>& out) n
   return true;
 }
 
+// One piece of slip motion, from `pos` in direction_ to its first event or the step's end (see
+// slip()). Stribeck's force follows v_r: with the friction held (every integrator but RK4, which
+// evaluates the law at its stages) it is held over the whole piece at its value where the piece
+// starts (the step's start, a break-away or a reversal), as over a step without events, not
+// re-sampled at the blocks the event search happens to visit, so the trajectory does not depend
+// on the search's grid (and EndStopOscillator's, out of reach of its stops, is this one).
+template <typename T, typename Law>
+inline bool Oscillator<T, Law>::slip_piece(Position& pos, T d, const Input& in, bool starting,
+                                           const WholeSlip<T>* whole_step) noexcept {
+  if constexpr (Law::velocity_dependent) {
+    if (!stage_friction_) {
+      const ConstantForce held{Law::slip_force(v_, direction_, friction_)};
+      return slip(pos, x_, v_, d, in, held, starting, whole_step);
+    }
+  }
+  return slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, starting, whole_step);
+}
+
 // Stick-slip and Stribeck: the event loop of one step. `whole_step`: the common path's whole
 // slipping step (Coulomb), when it found an event.
 template <typename T, typename Law>
@@ -445,8 +463,7 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
     }
     const bool detect = events < kEventBudget;
     const T d = detect ? direction_ : T(0);
-    if (!slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, starting,
-              events == 0 ? whole_step : nullptr)) {
+    if (!slip_piece(pos, d, in, starting, events == 0 ? whole_step : nullptr)) {
       // At the budget the slip runs to the end unsearched; counted where it lost an event (v_r
       // ended against its direction).
       if (!detect && v_ * direction_ < T(0)) ++counters_.event_budget_exhausted;

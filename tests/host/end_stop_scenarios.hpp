@@ -23,6 +23,19 @@ namespace stickslip::test::end_stop {
 
 constexpr double kDt = 1e-3;
 
+// A seeded floor of 20 s (harmonic: at frequency_hz).
+inline std::vector<double> floor_signal(host::SignalKind kind, double rms, double dt_s,
+                                        std::uint64_t seed, double frequency_hz = 0.0) {
+  host::GeneratorSpec spec;
+  spec.kind = kind;
+  spec.rms_m_per_s2 = rms;
+  spec.frequency_hz = frequency_hz;
+  spec.duration_s = 20.0;
+  spec.dt_s = dt_s;
+  spec.seed = seed;
+  return host::generate_signal(spec);
+}
+
 inline std::vector<double> wideband(double rms, double duration_s, std::uint64_t seed) {
   host::GeneratorSpec spec;
   spec.kind = host::SignalKind::wideband;

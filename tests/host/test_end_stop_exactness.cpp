@@ -167,14 +167,7 @@ TEST(EndStopExactness, DampedContactOnOtherInputsAndRatesIsExactToTheProblemsCon
   };
   int well_conditioned = 0, ill_conditioned = 0;
   for (const Case& c : cases) {
-    GeneratorSpec spec;
-    spec.kind = c.kind;
-    spec.rms_m_per_s2 = c.rms;
-    spec.frequency_hz = c.frequency_hz;
-    spec.duration_s = 20.0;
-    spec.dt_s = c.dt_s;
-    spec.seed = c.seed;
-    const std::vector<double> a_u = generate_signal(spec);
+    const std::vector<double> a_u = floor_signal(c.kind, c.rms, c.dt_s, c.seed, c.frequency_hz);
     OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::exact,
                                                 c.dt_s, c.seat_damping);
     p.kinetic_friction_n = c.kinetic_n;

@@ -118,13 +118,7 @@ TEST(EndStopStribeck, StopsOutOfReachEqualThePlainStribeckOscillatorWhereItsSear
     p.dt_s = c.dt_s;
     p.stribeck_velocity_m_per_s = c.stribeck_m_per_s;
     CHECK(event_search_plan(p, 0x1p-52).tick_level > 0);
-    GeneratorSpec spec;
-    spec.kind = c.kind;
-    spec.rms_m_per_s2 = c.rms;
-    spec.duration_s = 20.0;
-    spec.dt_s = c.dt_s;
-    spec.seed = c.seed;
-    const std::vector<double> a_u = generate_signal(spec);
+    const std::vector<double> a_u = floor_signal(c.kind, c.rms, c.dt_s, c.seed);
     Oscillator<double, StribeckStickSlip> plain;
     CHECK_TRUE(plain.configure(p).ok());
     const History want = run_history(plain, a_u, c.dt_s, 1);

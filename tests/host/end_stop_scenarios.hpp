@@ -23,27 +23,22 @@ namespace stickslip::test::end_stop {
 
 constexpr double kDt = 1e-3;
 
-// A seeded floor of 20 s (harmonic: at frequency_hz).
+// A seeded floor (harmonic: at frequency_hz), 20 s unless told.
 inline std::vector<double> floor_signal(host::SignalKind kind, double rms, double dt_s,
-                                        std::uint64_t seed, double frequency_hz = 0.0) {
+                                        std::uint64_t seed, double frequency_hz = 0.0,
+                                        double duration_s = 20.0) {
   host::GeneratorSpec spec;
   spec.kind = kind;
   spec.rms_m_per_s2 = rms;
   spec.frequency_hz = frequency_hz;
-  spec.duration_s = 20.0;
+  spec.duration_s = duration_s;
   spec.dt_s = dt_s;
   spec.seed = seed;
   return host::generate_signal(spec);
 }
 
 inline std::vector<double> wideband(double rms, double duration_s, std::uint64_t seed) {
-  host::GeneratorSpec spec;
-  spec.kind = host::SignalKind::wideband;
-  spec.rms_m_per_s2 = rms;
-  spec.duration_s = duration_s;
-  spec.dt_s = kDt;
-  spec.seed = seed;
-  return host::generate_signal(spec);
+  return floor_signal(host::SignalKind::wideband, rms, kDt, seed, 0.0, duration_s);
 }
 
 inline OscillatorParams seat(FrictionModel model, double damping, double kinetic_n,

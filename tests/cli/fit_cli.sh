@@ -175,6 +175,14 @@ refuses 1 "no column 'a_x' (the seat acceleration" --input norate.txt --mass 88.
 grep -q "^warning: ffk and ffs cannot be told apart on this recording" nostick.txt ||
   fail "no identifiability warning at K = 0.05: $(cat nostick.txt)"
 
+# A seat that never slips (here: a quiet floor) moves with the floor: nothing in
+# a_x depends on k, b or the friction, and the fit says so rather than estimating from nothing.
+"$stickslip" generate --kind lorry --rms 0.05 --duration 20 --dt 0.001 --seed 3 --output quiet_floor.csv
+"$stickslip" simulate --input quiet_floor.csv --output quiet_rig.csv --model stick-slip --ffk 45 \
+  --ffs 55 >/dev/null
+refuses 1 "no fitted parameter changes the model's a_x on this recording (the seat stays stuck" \
+  --input quiet_rig.csv --mass 88.4
+
 # Not converged: says so, status 1, no estimates.
 refuses 1 "the fit did not converge after 1 iterations" --input rig.csv --mass 88.4 --max-iterations 1
 

@@ -56,6 +56,25 @@ TEST(FirstHour, SweepOutputThatIsTheInputIsRefusedAndTheRecordingKept) {
   STRCMP_EQUAL(kRecording, read_text(in).c_str());
 }
 
+// The vehicle's DBC is read as the recording is: an output or stats file naming it would replace
+// the user's database with a trace.
+TEST(FirstHour, OutputOrStatsThatIsTheDbcIsRefusedAndTheDbcKept) {
+  const std::string dbc = dir.file("vehicle.dbc");
+  const std::string text = "VERSION \"\"\n";
+  stickslip::test::write_text(dbc, text);
+  const std::string out = dir.file("o.csv");
+  for (const char* option : {"--output", "--stats"}) {
+    const bool stats = std::string(option) == "--stats";
+    const CliRun run =
+        run_stickslip({"simulate", "--input", in, "--dbc", dbc, "--output", stats ? out : dbc,
+                       "--stats", stats ? dbc : dir.file("s.json"), "--model", "signum"});
+    check_one_line(run, 2,
+                   std::string(option) + " " + dbc + " is the file --dbc " + dbc +
+                       " reads; write the result to another file");
+    STRCMP_EQUAL(text.c_str(), read_text(dbc).c_str());
+  }
+}
+
 TEST(FirstHour, OutputThatResolvesToTheInputThroughALinkIsRefused) {
   const std::string link = dir.file("link.csv");
   CHECK_EQUAL(0, ::symlink(in.c_str(), link.c_str()));

@@ -108,6 +108,25 @@ TEST(AscLog, BadDataLineIsNamedByFileAndLine) {
                error_of(host::parse_asc, "date x\n0.1 1 100 Rx d 1 G1\n", "bus.asc").c_str());
 }
 
+// A line shaped as a data frame (direction, then 'd') with a damaged time, channel or direction
+// is refused: skipped as an event, it would become a gap that hides the damage.
+TEST(AscLog, DataFrameWithADamagedTimeChannelOrDirectionIsRefusedNotSkipped) {
+  const std::string head = "date x\nbase hex timestamps absolute\n0.001 1 200 Rx d 1 00\n";
+  STRCMP_EQUAL("bus.asc:4: time '0.01x000' is not seconds (a decimal >= 0)",
+               error_of(host::parse_asc, head + "0.01x000 1 200 Rx d 1 00\n", "bus.asc").c_str());
+  STRCMP_EQUAL("bus.asc:4: time '-0.100000' is not seconds (a decimal >= 0)",
+               error_of(host::parse_asc, head + "-0.100000 1 200 Rx d 1 00\n", "bus.asc").c_str());
+  STRCMP_EQUAL("bus.asc:4: channel 'X' is not a number",
+               error_of(host::parse_asc, head + "0.002 X 200 Rx d 1 00\n", "bus.asc").c_str());
+  STRCMP_EQUAL("bus.asc:4: data frame without its direction (Rx or Tx) before 'd'",
+               error_of(host::parse_asc, head + "0.002 1 200 d 1 00\n", "bus.asc").c_str());
+  // The direction's case is not the frame's content: 'rx' is a received frame.
+  const CanLog log = host::parse_asc(head + "0.002 1 200 rx d 1 05\n", "bus.asc");
+  LONGS_EQUAL(2, log.frames.size());
+  check_frame(log.frames[1], 0.002, 0x200, false, {0x05}, 'R');
+  LONGS_EQUAL(0, log.skipped_events);
+}
+
 TEST_GROUP(TrcLog){};
 
 TEST(TrcLog, Version11LinesAsPeakDocumentsThem) {

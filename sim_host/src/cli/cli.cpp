@@ -163,7 +163,7 @@ void refuse_unknown_options(const CLI::App& command, int argc, char** argv) {
 }
 
 // The options whose files a command reads, and those it writes.
-constexpr const char* kInputOptions[] = {"--input", "--scene", "shards"};
+constexpr const char* kInputOptions[] = {"--input", "--scene", "--dbc", "shards"};
 constexpr const char* kOutputOptions[] = {"--output", "--stats", "--output-log", "--sample-index",
                                           "--plot"};
 

@@ -46,6 +46,21 @@ bool integer(std::string_view field, int base, std::uint32_t& value) {
   return result.ec == std::errc() && result.ptr == field.data() + field.size();
 }
 
+bool is_direction(std::string_view field) {
+  return equal_ignoring_case(field, "Rx") || equal_ignoring_case(field, "Tx");
+}
+
+bool is_data(std::string_view field) {
+  return field == "d" || field == "D";
+}
+
+// Hex digits, optionally with the extended id's 'x': a CAN id in either base.
+bool looks_like_id(std::string_view field) {
+  if (!field.empty() && (field.back() == 'x' || field.back() == 'X')) field.remove_suffix(1);
+  return !field.empty() &&
+         field.find_first_not_of("0123456789abcdefABCDEF") == std::string_view::npos;
+}
+
 }  // namespace
 
 CanLog parse_asc(std::string_view bytes, const std::string& path) {
@@ -68,23 +83,35 @@ CanLog parse_asc(std::string_view bytes, const std::string& path) {
         relative = equal_ignoring_case(fields[3], "relative");
       continue;
     }
+    // A data frame is known by its shape (direction then 'd'), so that one with a damaged time,
+    // channel or direction is refused rather than taken for an event and read over as a gap.
+    const bool data_frame = fields.size() >= 5 && is_direction(fields[3]) && is_data(fields[4]);
     double time_s = 0.0;
-    if (!decimal_time(fields[0], time_s)) continue;  // header, trigger block or comment line
+    if (!data_frame && fields.size() >= 5 && is_data(fields[3]) && looks_like_id(fields[2]) &&
+        decimal_time(fields[0], time_s)) {
+      fail("data frame without its direction (Rx or Tx) before " + text::quoted(fields[3]));
+    }
+    if (!decimal_time(fields[0], time_s)) {
+      if (data_frame) fail("time " + text::quoted(fields[0]) + " is not seconds (a decimal >= 0)");
+      continue;  // header, trigger block or comment line
+    }
     if (relative) {
       time_s += previous_time;
       previous_time = time_s;
     }
     // time channel id dir d dlc data...
     std::uint32_t channel = 0;
-    if (fields.size() < 6 || !integer(fields[1], 10, channel) ||
-        !(fields[3] == "Rx" || fields[3] == "Tx") || !(fields[4] == "d" || fields[4] == "D")) {
+    if (!data_frame) {
       ++log.skipped_events;
       continue;
     }
+    if (!integer(fields[1], 10, channel))
+      fail("channel " + text::quoted(fields[1]) + " is not a number");
+    if (fields.size() < 6) fail("data frame without its DLC");
     LogFrame frame;
     frame.time_s = time_s;
     frame.channel = std::string(fields[1]);
-    frame.direction = fields[3][0] == 'R' ? 'R' : 'T';
+    frame.direction = fields[3][0] == 'R' || fields[3][0] == 'r' ? 'R' : 'T';
     std::string_view id = fields[2];
     if (!id.empty() && (id.back() == 'x' || id.back() == 'X')) {
       frame.extended = true;

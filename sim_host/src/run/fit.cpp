@@ -463,6 +463,14 @@ FitResult fit_seat(const RigRecording& rig, const FitRequest& request) {
   const FitCovariance covariance = fit_covariance(best.problem, best.fit.u, best.box);
   fill_result(result, best, covariance);
   measure_model(result, best, rig, data);
+  if (std::all_of(covariance.no_influence.begin(), covariance.no_influence.end(),
+                  [](bool none) { return none; })) {
+    throw HostError(rig.path + ": no fitted parameter changes the model's a_x on this recording" +
+                    (result.stick_probability_model >= 1.0
+                         ? " (the seat stays stuck: it moves with the floor throughout)"
+                         : "") +
+                    "; fitting needs a recording in which the seat slips");
+  }
   result.warnings = fit_warnings(result, covariance, data, best.box, best.fit.u);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   return result;

@@ -212,6 +212,7 @@ FitCovariance fit_covariance(const FitProblem& problem, const std::vector<double
     if (!out.no_influence[j]) kept.push_back(static_cast<Eigen::Index>(j));
   }
   const auto used = static_cast<Eigen::Index>(kept.size());
+  if (used == 0) return out;
   Eigen::MatrixXd normal(used, used);
   for (Eigen::Index a = 0; a < used; ++a)
     for (Eigen::Index b = 0; b < used; ++b)

@@ -170,15 +170,7 @@ std::string inspect_text(const std::string& path, const RecordingOptions& option
       table.decimal_mark, table.channels.size(),
       table.header_line ? fmt::format("at line {}", table.header_line) : std::string("none"),
       table.first_data_line);
-  const TextChannel* time = nullptr;
-  for (const TextChannel& c : table.channels) {
-    if (!options.time.empty()
-            ? &c == &table.channel(options.time)
-            : (lower(c.name) == "t" || lower(c.name) == "time" || c.unit == "s")) {
-      time = &c;
-      break;
-    }
-  }
+  const TextChannel* time = text_time_column(path, table, options);
   std::string flags;
   std::vector<double> t;
   if (options.rate_hz > 0 || time == nullptr) {

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "stickslip/host/io/delimited_text.hpp"
 #include "stickslip/host/run/recording_source.hpp"
 
 namespace stickslip::host {
@@ -20,6 +21,12 @@ struct RawSeries {
   bool frame_lines = false;         // frames are lines of a text log, not places in a BLF
   std::vector<double> f_a_n;        // text: a column f_a (actuator force, N), when there is one
 };
+
+// A text table's time column: --time NAME, else the first column named t or time or in s or ms;
+// nullptr if there is none. With --rate, a table that has one is refused (--rate would replace
+// its times and hide its gaps).
+const TextChannel* text_time_column(const std::string& path, const DelimitedTable& table,
+                                    const RecordingOptions& options);
 
 // Text (delimited_text.hpp) or a CAN log with a DBC (can_signal.hpp), as `options` select.
 RawSeries read_raw_series(const std::string& path, const RecordingOptions& options);

@@ -51,19 +51,10 @@ std::string column_list(const DelimitedTable& table) {
   return list;
 }
 
-const TextChannel* time_channel(const DelimitedTable& table, const RecordingOptions& options) {
-  if (!options.time.empty()) return &table.channel(options.time);
-  for (const TextChannel& channel : table.channels) {
-    const std::string name = lower(channel.name);
-    if (name == "t" || name == "time" || channel.unit == "s") return &channel;
-  }
-  return nullptr;
-}
-
 RawSeries read_text_series(const std::string& path, const RecordingOptions& options) {
   const DelimitedTable table = read_delimited_text(path);
   RawSeries raw;
-  const TextChannel* time = options.rate_hz > 0 ? nullptr : time_channel(table, options);
+  const TextChannel* time = text_time_column(path, table, options);
   if (time == nullptr && !(options.rate_hz > 0)) {
     throw HostError(fmt::format("{}: no time column (columns: {}); give --time NAME or --rate HZ",
                                 path, column_list(table)));
@@ -156,6 +147,24 @@ RawSeries read_can_series(const std::string& path, const RecordingOptions& optio
 }
 
 }  // namespace
+
+const TextChannel* text_time_column(const std::string& path, const DelimitedTable& table,
+                                    const RecordingOptions& options) {
+  if (!options.time.empty()) return &table.channel(options.time);
+  for (const TextChannel& channel : table.channels) {
+    const std::string name = lower(channel.name);
+    if (name != "t" && name != "time" && channel.unit != "s" && channel.unit != "ms") continue;
+    if (options.rate_hz > 0) {
+      throw UsageError(fmt::format(
+          "--rate {}: {} has a time column, {}; --rate is for text without one (drop it, or "
+          "choose the column with --time NAME)",
+          options.rate_hz, path,
+          channel.unit.empty() ? channel.name : channel.name + " [" + channel.unit + "]"));
+    }
+    return &channel;
+  }
+  return nullptr;
+}
 
 bool RecordingOptions::defaults() const noexcept {
   return signal.empty() && dbc.empty() && time.empty() && !(rate_hz > 0) && unit.empty() &&

@@ -183,6 +183,30 @@ grep -q "^warning: ffk and ffs cannot be told apart on this recording" nostick.t
 refuses 1 "no fitted parameter changes the model's a_x on this recording (the seat stays stuck" \
   --input quiet_rig.csv --mass 88.4
 
+# A harmonic floor has no power below the natural frequency: the unit check has nothing to read
+# there and must not take leakage for a gain (it once said "a_u looks like it is in g"). Noise-free
+# reference data: the fit finds the seat to near rounding.
+"$stickslip" generate --kind harmonic --frequency 1.3 --rms 1.5 --duration 30 --dt 0.001 --seed 1 \
+  --output harm_floor.csv
+"$stickslip" simulate --input harm_floor.csv --output harm_rig.csv --model stick-slip --ffk 45 \
+  --ffs 55 --integrator reference >/dev/null
+"$stickslip" fit --input harm_rig.csv --mass 88.4 >harm.txt || fail "harmonic rig: $(cat harm.txt)"
+/usr/bin/python3 - <<'PY' || fail "harmonic rig: $(tail -1 harm.txt)"
+import json
+j = json.loads(open("harm.txt").read().splitlines()[-1])
+for key, truth in (("stiffness", 11500), ("damping", 504), ("ffk", 45), ("ffs", 55)):
+    assert abs(j[key] / truth - 1) < 1e-9, (key, j[key])
+PY
+
+# Bounds that make no sense are the request's mistake (status 2), named.
+refuses 2 "--lower ffk=50 is not below --upper ffk=40" --input rig.csv --mass 88.4 --lower ffk=50 --upper ffk=40
+refuses 2 "--start ffk=60 lies outside its --lower/--upper bounds" --input rig.csv --mass 88.4 --start ffk=60 --upper ffk=40
+refuses 2 "--lower/--upper ffs: with ffk fitted too" --input rig.csv --mass 88.4 --upper ffs=50
+refuses 2 "--mass: must be a finite number > 0, got -3" --input rig.csv --mass -3
+# An estimate held by its bound is reported as the bound, not as a minimum.
+"$stickslip" fit --input rig.csv --mass 88.4 --upper ffk=40 >bound.txt
+grep -q "^warning: ffk ended on its bound" bound.txt || fail "no bound warning: $(cat bound.txt)"
+
 # Not converged: says so, status 1, no estimates.
 refuses 1 "the fit did not converge after 1 iterations" --input rig.csv --mass 88.4 --max-iterations 1
 

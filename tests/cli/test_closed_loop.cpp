@@ -102,6 +102,34 @@ TEST(ClosedLoopCommand, PassiveControllerEqualsSimulateBitForBit) {
   CHECK_TRUE(test::bit_equal(1.0, l["seat_weighted_rms_ratio"].get<double>()));
 }
 
+// At a 5 ms step the observer's 4 ms acceleration low-pass and its 10 ms leak are one step long
+// (a time constant below the step cannot act); the loop runs rather than refusing the step, and
+// the passive loop is still simulate's seat bit for bit.
+TEST(ClosedLoopCommand, PassiveControllerAtAFiveMillisecondStepEqualsSimulate) {
+  test::TempDir dir;
+  const std::string input = dir.file("floor.csv");
+  CHECK_EQUAL(0, test::run_stickslip({"generate", "--kind", "lorry", "--rms", "1.5", "--duration",
+                                      "20", "--dt", "0.005", "--seed", "4", "--output", input})
+                     .status);
+  const std::vector<std::string> seat = {"--model",     "stick-slip", "--ffk",     "10",
+                                         "--ffs",       "35",         "--mass",    "70",
+                                         "--stiffness", "9000",       "--damping", "200"};
+  const test::CliRun simulate = test::run_stickslip(with(
+      {"simulate", "--input", input, "--output", dir.file("sim.csv"), "--repetitions", "1"}, seat));
+  CHECK_EQUAL(0, simulate.status);
+  const test::CliRun loop = test::run_stickslip(
+      with({"closed-loop", "--input", input, "--output", dir.file("loop.csv")}, seat));
+  CHECK_EQUAL(0, loop.status);
+  const test::Table sim = test::read_table(dir.file("sim.csv"));
+  const test::Table closed = test::read_table(dir.file("loop.csv"));
+  CHECK_TRUE(sim.ok && closed.ok);
+  CHECK_EQUAL(4001u, sim.rows.size());
+  CHECK_EQUAL(sim.rows.size(), closed.rows.size());
+  CHECK_EQUAL(0u, differing_cells(sim, closed, 0, 7));
+  CHECK_TRUE(test::bit_equal(last_json(simulate.out)["T_ax"].get<double>(),
+                             last_json(loop.out)["controlled"]["T_ax"].get<double>()));
+}
+
 // The loop's trace carries the force that acted over each step; simulate with that f_a column is
 // the plant alone, run by simulate's own loop. Equal a_x, x_r and v_r histories prove that the
 // loop steps the exact core with the force held over the step after the sample that computed it.
@@ -265,6 +293,20 @@ TEST(ClosedLoopCommand, RefusesAnUnknownControllerAndAForceColumnWithExit2) {
   CHECK_EQUAL(2, with_force.status);
   CHECK_TRUE(with_force.err.find("column 'f_a'") != std::string::npos);
   CHECK_FALSE(test::exists(dir.file("loop.csv")));
+  // A sensor noise is an RMS: a negative or not-a-number one is a mistake, not "no noise".
+  for (const char* option : {"--a-x-noise", "--x-r-noise"}) {
+    for (const char* value : {"-1", "nan"}) {
+      const test::CliRun noise = test::run_stickslip(
+          with({"closed-loop", "--input", input, "--output", dir.file("loop.csv"), option, value},
+               kSeat));
+      CHECK_EQUAL(2, noise.status);
+      STRCMP_EQUAL((std::string("stickslip: ") + option + ": must be a finite number >= 0, got " +
+                    value + "\n")
+                       .c_str(),
+                   noise.err.c_str());
+      CHECK_FALSE(test::exists(dir.file("loop.csv")));
+    }
+  }
 }
 
 // The loop's seat, estimator and controller run in double: the help offers no other scalar and

@@ -77,7 +77,8 @@ class FitCommand : public Command {
     fit.add_option("--model", model_, "stick-slip | stribeck | linear | signum")
         ->default_str("stick-slip");
     fit.add_option("--mass", request_.mass_kg,
-                   "the seat's mass, kg (a_u, a_x and x_r fix only k/m, b/m and F/m)");
+                   "the seat's mass, kg (a_u, a_x and x_r fix only k/m, b/m and F/m)")
+        ->check(OptionCheck::positive);
     fit.add_option("--fit", fit_,
                    "parameters to estimate, comma-separated: stiffness, damping, ffk, ffs, "
                    "stribeck-velocity (default: all the model has)")

@@ -6,10 +6,14 @@
 namespace stickslip::host {
 
 void add_sensor_noise_options(Options& command, ClosedLoopSetup& setup) {
-  command.add_option("--a-x-noise", setup.a_x_noise_m_per_s2,
-                     "seat accelerometer noise, RMS per sample, m/s^2 (default 0)");
-  command.add_option("--x-r-noise", setup.x_r_noise_m,
-                     "travel sensor noise, RMS per sample, m (default 0)");
+  command
+      .add_option("--a-x-noise", setup.a_x_noise_m_per_s2,
+                  "seat accelerometer noise, RMS per sample, m/s^2 (default 0)")
+      ->check(OptionCheck::non_negative);
+  command
+      .add_option("--x-r-noise", setup.x_r_noise_m,
+                  "travel sensor noise, RMS per sample, m (default 0)")
+      ->check(OptionCheck::non_negative);
 }
 
 void LoopControllerOptions::add_to(Options& command, ClosedLoopSetup& setup) {

@@ -98,6 +98,11 @@ ClosedLoopParams closed_loop_params(const ClosedLoopSetup& setup, double dt_s) {
   p.estimator.damping_ns_per_m = seat.damping_ns_per_m;
   p.estimator.initial_kinetic_friction_n = seat.kinetic_friction_n;
   p.estimator.initial_static_friction_n = std::max(seat.static_friction_n, seat.kinetic_friction_n);
+  // The filter's 4 ms low-pass and 10 ms leak are for the usual 1 ms step; a time constant
+  // shorter than the step cannot act, so at a longer step they are one step (no filtering)
+  // rather than a refusal of the whole loop, passive included.
+  p.estimator.acceleration_filter_time_s = std::max(p.estimator.acceleration_filter_time_s, dt_s);
+  p.estimator.breakaway_leak_time_s = std::max(p.estimator.breakaway_leak_time_s, dt_s);
   // The filter's belief about the sensors: what they are declared to be, where declared.
   if (setup.a_x_noise_m_per_s2 > 0.0)
     p.estimator.seat_acceleration_noise_m_per_s2 = setup.a_x_noise_m_per_s2;

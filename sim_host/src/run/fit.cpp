@@ -59,6 +59,25 @@ void check_request(const FitRequest& request) {
         "with --mass");
   }
   if (!(request.mass_kg > 0.0)) throw UsageError("--mass: the seat's mass (kg) is needed");
+  const bool static_excess =
+      request.fit[at(FitParameter::ffk)] && request.fit[at(FitParameter::ffs)];
+  for (std::size_t i = 0; i < kFitParameterCount; ++i) {
+    const double lower = request.lower[i], upper = request.upper[i], start = request.start[i];
+    if (lower > 0.0 && upper > 0.0 && !(lower < upper)) {
+      throw UsageError(fmt::format("--lower {}={} is not below --upper {}={}", kNames[i], lower,
+                                   kNames[i], upper));
+    }
+    if (static_excess && i == at(FitParameter::ffs) && (lower > 0.0 || upper > 0.0)) {
+      throw UsageError(
+          "--lower/--upper ffs: with ffk fitted too, F_fs is fitted as F_fk plus its excess over "
+          "F_fk and takes no bounds of its own; bound ffk, or fit ffs alone");
+    }
+    if (request.fit[i] && start > 0.0 &&
+        ((lower > 0.0 && start < lower) || (upper > 0.0 && start > upper))) {
+      throw UsageError(
+          fmt::format("--start {}={} lies outside its --lower/--upper bounds", kNames[i], start));
+    }
+  }
   if (std::none_of(request.fit.begin(), request.fit.end(), [](bool fit) { return fit; }))
     throw UsageError("--fit: name at least one parameter to fit");
 }

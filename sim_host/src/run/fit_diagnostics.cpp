@@ -91,7 +91,12 @@ std::vector<std::string> fit_warnings(const FitResult& result, const FitCovarian
       warnings.push_back(fmt::format("{} is poorly determined: 95 % interval +-{:.3g} %",
                                      name_of(result, i), 100.0 * relative_ci(result, i)));
     }
-    if (u[i] <= box.lower[i] + 1e-9 || u[i] >= box.upper[i] - 1e-9) {
+    // The solver stops a hair inside an active bound (Ceres keeps iterates strictly feasible),
+    // so "on" it is within a millionth of it (u is scaled to order 1).
+    const auto near = [&u, i](double bound) {
+      return std::fabs(u[i] - bound) <= 1e-6 * std::max(1.0, std::fabs(bound));
+    };
+    if (near(box.lower[i]) || near(box.upper[i]) || u[i] < box.lower[i] || u[i] > box.upper[i]) {
       warnings.push_back(
           fmt::format("{} ended on its bound: the estimate is the bound, not a "
                       "minimum",

@@ -87,10 +87,15 @@ void measure_transfer(const RigRecording& rig, RigInspection& out) {
       out.peak_hz = f;
     }
   }
+  // Only where the floor moves: a bin that holds little of the floor's power (a harmonic or
+  // narrow-band floor) holds leakage and noise, whose ratio says nothing of the units.
+  double floor_peak = 0.0;
+  for (std::size_t k = 1; k < floor.psd.size(); ++k)
+    if (floor.frequency_hz[k] <= top_hz) floor_peak = std::max(floor_peak, floor.psd[k]);
   std::vector<double> low;
   for (std::size_t k = 1; k < floor.psd.size(); ++k) {
     const double f = floor.frequency_hz[k];
-    if (f >= 0.15 * out.peak_hz && f <= 0.5 * out.peak_hz && floor.psd[k] > 0.0)
+    if (f >= 0.15 * out.peak_hz && f <= 0.5 * out.peak_hz && floor.psd[k] > 1e-4 * floor_peak)
       low.push_back(std::sqrt(seat.psd[k] / floor.psd[k]));
   }
   if (low.size() >= 3) out.low_frequency_gain = median(std::move(low));

@@ -142,9 +142,18 @@ class StateEstimator {
       return refuse("static_friction_weight", p.static_friction_weight, " must be in (0, 1]");
     }
     const double dt = p.dt_s;
-    if (!(p.kinetic_friction_time_s >= dt) || !(p.acceleration_filter_time_s >= dt) ||
-        !(p.breakaway_leak_time_s >= dt) || !(p.bias_time_s >= dt)) {
-      return refuse("dt_s", dt, " must not exceed the averaging, filter and leak time constants");
+    const Named time_constants[] = {
+        {"kinetic_friction_time_s", p.kinetic_friction_time_s},
+        {"acceleration_filter_time_s", p.acceleration_filter_time_s},
+        {"breakaway_leak_time_s", p.breakaway_leak_time_s},
+        {"bias_time_s", p.bias_time_s},
+    };
+    for (const Named& q : time_constants) {
+      if (!(q.value >= dt)) {  // an average, filter or leak shorter than the step cannot act
+        refuse("dt_s", dt, " exceeds ");
+        result.message.append(q.name).append(" = ").append(q.value);
+        return result;
+      }
     }
     // One reversal per step at most (the sign test on the predicted v_r).
     const double omega0 = std::sqrt(p.stiffness_n_per_m / p.mass_kg);

@@ -209,6 +209,12 @@ TEST(DbcReader, MalformedStatementsAreNamedByFileAndLine) {
   STRCMP_EQUAL("car.dbc:2: VAL_: message 'M' has no signal 'T'",
                error_of("BO_ 1 M: 8 X\nVAL_ 1 T 0 \"a\" ;\n").c_str());
   STRCMP_EQUAL("car.dbc:1: string not closed by '\"'", error_of("CM_ \"open").c_str());
+  // A unit's quote left open would swallow the lines after it up to the next quote (here the
+  // next signal and its unit), attaching what follows to the wrong message: refused at its line.
+  STRCMP_EQUAL("car.dbc:2: the unit string is not closed on its line (a '\"' is missing)",
+               error_of("BO_ 1 M: 8 X\n SG_ S : 0|8@1+ (1,0) [0|1] \"m/s^2 Y\n"
+                        " SG_ T : 8|8@1+ (1,0) [0|1] \"g\" Y\n")
+                   .c_str());
   STRCMP_EQUAL("car.dbc:2: SIG_VALTYPE_: IEEE float signals are not supported",
                error_of("BO_ 1 M: 8 X\nSIG_VALTYPE_ 1 S : 1;\n").c_str());
 }

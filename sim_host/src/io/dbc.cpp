@@ -291,6 +291,10 @@ class Parser {
     expect("]");
     if (token_.kind != Token::kString)
       fail("expected the unit as a \"string\", found " + describe());
+    // A unit is a word on the signal's line; one that runs on is a quote left open, which would
+    // swallow the signals after it up to the next quote.
+    if (token_.text.find_first_of("\r\n") != std::string_view::npos)
+      fail("the unit string is not closed on its line (a '\"' is missing)");
     signal.unit = std::string(token_.text);
     advance();
     while (token_.kind != Token::kEnd && !token_.first_on_line) {

@@ -15,6 +15,7 @@
 #endif
 
 #include "stickslip/host/error.hpp"
+#include "stickslip/host/io/csv_reader.hpp"
 #include "stickslip/host/run/simulation.hpp"
 #include "stickslip/models/step_common.hpp"
 
@@ -79,8 +80,15 @@ inline py::array float64_array(std::vector<double>&& values) {
 std::vector<double> time_line(std::size_t count, double dt_s);
 
 // Samples from any 1-D array-like; one memcpy when it is already contiguous float64. `expected`
-// completes the message for anything else ("a_u: expected ...").
-std::vector<double> samples_from(const py::handle& a_u, const char* expected);
+// completes the message for anything else ("a_u: expected ...", `name` the argument).
+std::vector<double> samples_from(const py::handle& values, const char* expected,
+                                 const char* name = "a_u");
+
+// A recording file as `stickslip simulate` reads it when given no recording flags
+// (host::read_recording with default options: the t,a_u CSV, .mat, a logger's text): its one
+// segment, with the actuator force of its column f_a (N) when it has one. A force that reading
+// could not keep on its samples is refused with the command's message.
+host::SampledSignal read_recording_file(const std::string& path);
 
 py::dict signal_dict(std::vector<double>&& t, std::vector<double>&& a_u, double dt_s);
 

@@ -1,6 +1,10 @@
-// The core's oscillator, sample by sample: the model type the scene names, chosen once.
+// The core's oscillator, sample by sample: the model type the scene names, chosen once; with an
+// actuator force (N) when one is given, through the core's own step(a_u, f_a).
+#include <pybind11/stl.h>
+
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <type_traits>
 
@@ -14,11 +18,15 @@ class AnySeat {
  public:
   virtual ~AnySeat() = default;
   virtual void reset(double x0_m, double v0_m_per_s, double a_u0) = 0;
+  virtual void reset(double x0_m, double v0_m_per_s, double a_u0, double f_a0_n) = 0;
   virtual Sample step(double a_u) = 0;
+  virtual Sample step(double a_u, double f_a_n) = 0;
   virtual Sample current() const = 0;
-  // step() for every sample of a_u, the outputs into the arrays (n samples each).
-  virtual void run(const double* a_u, std::size_t n, double* x_r, double* v_r, double* a_x,
-                   double* f_f, std::uint8_t* stuck) = 0;
+  virtual Sample current_with_force(double f_a_n) const = 0;
+  // step() for every sample of a_u (with f_a[i] when f_a is not null), the outputs into the
+  // arrays (n samples each).
+  virtual void run(const double* a_u, const double* f_a, std::size_t n, double* x_r, double* v_r,
+                   double* a_x, double* f_f, std::uint8_t* stuck) = 0;
   virtual std::uint64_t rejected_inputs() const = 0;
   virtual std::uint64_t event_budget_exhausted() const = 0;
   virtual std::uint64_t state_resets() const = 0;
@@ -31,12 +39,25 @@ class SeatOf final : public AnySeat {
   void reset(double x0_m, double v0_m_per_s, double a_u0) override {
     model.reset(static_cast<T>(x0_m), static_cast<T>(v0_m_per_s), static_cast<T>(a_u0));
   }
+  void reset(double x0_m, double v0_m_per_s, double a_u0, double f_a0_n) override {
+    model.reset(static_cast<T>(x0_m), static_cast<T>(v0_m_per_s), static_cast<T>(a_u0),
+                static_cast<T>(f_a0_n));
+  }
   Sample step(double a_u) override { return sample_of(model.step(static_cast<T>(a_u))); }
+  Sample step(double a_u, double f_a_n) override {
+    return sample_of(model.step(static_cast<T>(a_u), static_cast<T>(f_a_n)));
+  }
   Sample current() const override { return sample_of(model.current()); }
-  void run(const double* a_u, std::size_t n, double* x_r, double* v_r, double* a_x, double* f_f,
-           std::uint8_t* stuck) override {
+  Sample current_with_force(double f_a_n) const override {
+    return sample_of(model.current_with_force(static_cast<T>(f_a_n)));
+  }
+  void run(const double* a_u, const double* f_a, std::size_t n, double* x_r, double* v_r,
+           double* a_x, double* f_f, std::uint8_t* stuck) override {
     for (std::size_t i = 0; i < n; ++i) {
-      const StepOutput<T> out = model.step(static_cast<T>(a_u[i]));
+      // Without a force, the plain step(a_u) that simulate() runs for a recording without one.
+      const StepOutput<T> out = f_a != nullptr
+                                    ? model.step(static_cast<T>(a_u[i]), static_cast<T>(f_a[i]))
+                                    : model.step(static_cast<T>(a_u[i]));
       x_r[i] = static_cast<double>(out.x_r_m);
       v_r[i] = static_cast<double>(out.v_r_m_per_s);
       a_x[i] = static_cast<double>(out.a_x_m_per_s2);
@@ -83,22 +104,40 @@ class PyOscillator {
     seat_->reset(spec_.setup.x0_m, spec_.setup.v0_m_per_s, 0.0);
   }
 
-  void reset(double x0_m, double v0_m_per_s, double a_u0) { seat_->reset(x0_m, v0_m_per_s, a_u0); }
-  Sample step(double a_u) { return seat_->step(a_u); }
-  Sample current() const { return seat_->current(); }
+  // With f_a (N) the core's actuated calls, as simulate() makes them for a force column: reset
+  // with f_a[0], row 0 current(f_a[0]), then step(a_u[n], f_a[n]).
+  void reset(double x0_m, double v0_m_per_s, double a_u0, std::optional<double> f_a0_n) {
+    if (f_a0_n) {
+      seat_->reset(x0_m, v0_m_per_s, a_u0, *f_a0_n);
+    } else {
+      seat_->reset(x0_m, v0_m_per_s, a_u0);
+    }
+  }
+  Sample step(double a_u, std::optional<double> f_a_n) {
+    return f_a_n ? seat_->step(a_u, *f_a_n) : seat_->step(a_u);
+  }
+  Sample current(std::optional<double> f_a_n) const {
+    return f_a_n ? seat_->current_with_force(*f_a_n) : seat_->current();
+  }
 
   // Steps over a whole array: the input read in place (contiguous float64; other arrays are
   // converted once), the outputs written straight into new numpy arrays, the GIL released.
-  py::dict run(const py::array_t<double, py::array::c_style | py::array::forcecast>& a_u) {
+  py::dict run(
+      const py::array_t<double, py::array::c_style | py::array::forcecast>& a_u,
+      const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& f_a) {
     if (a_u.ndim() != 1) throw HostError("a_u: expected a 1-D array of samples");
     const py::ssize_t n = a_u.shape(0);
+    if (f_a && (f_a->ndim() != 1 || f_a->shape(0) != n)) {
+      throw HostError("f_a: expected a 1-D array of forces (N), one per sample of a_u");
+    }
+    const double* force = f_a ? f_a->data() : nullptr;
     py::array_t<double> x_r(n), v_r(n), a_x(n), f_f(n);
     py::array_t<bool> stuck(n);
     static_assert(sizeof(bool) == sizeof(std::uint8_t), "numpy's bool is one byte");
     {
       py::gil_scoped_release release;
-      seat_->run(a_u.data(), static_cast<std::size_t>(n), x_r.mutable_data(), v_r.mutable_data(),
-                 a_x.mutable_data(), f_f.mutable_data(),
+      seat_->run(a_u.data(), force, static_cast<std::size_t>(n), x_r.mutable_data(),
+                 v_r.mutable_data(), a_x.mutable_data(), f_f.mutable_data(),
                  reinterpret_cast<std::uint8_t*>(stuck.mutable_data()));
     }
     py::dict trace;
@@ -140,10 +179,10 @@ void bind_oscillator(py::module_& m) {
   py::class_<PyOscillator>(m, "Oscillator")
       .def(py::init<double, const py::dict&>(), py::arg("dt"), py::arg("options"))
       .def("reset", &PyOscillator::reset, py::arg("x0") = 0.0, py::arg("v0") = 0.0,
-           py::arg("a_u0") = 0.0)
-      .def("step", &PyOscillator::step, py::arg("a_u"))
-      .def("current", &PyOscillator::current)
-      .def("run", &PyOscillator::run, py::arg("a_u"))
+           py::arg("a_u0") = 0.0, py::arg("f_a0") = py::none())
+      .def("step", &PyOscillator::step, py::arg("a_u"), py::arg("f_a") = py::none())
+      .def("current", &PyOscillator::current, py::arg("f_a") = py::none())
+      .def("run", &PyOscillator::run, py::arg("a_u"), py::arg("f_a") = py::none())
       .def_property_readonly("dt", [](const PyOscillator& o) { return o.spec().setup.params.dt_s; })
       .def_property_readonly(
           "model",

@@ -13,7 +13,7 @@
 #include "module.hpp"
 #include "stickslip/can/codec.hpp"
 #include "stickslip/host/io/candump_log.hpp"
-#include "stickslip/host/io/mat_file.hpp"
+#include "stickslip/host/run/recording_source.hpp"
 #include "stickslip/host/signals/resample.hpp"
 #include "stickslip/host/signals/seat_test_spectra.hpp"
 #include "stickslip/host/signals/signal_generator.hpp"
@@ -43,12 +43,12 @@ py::dict signal_dict(std::vector<double>&& t, std::vector<double>&& a_u, double 
   return recording;
 }
 
-std::vector<double> samples_from(const py::handle& a_u, const char* expected) {
-  auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a_u);
-  if (!array) throw HostError(std::string("a_u: expected ") + expected);
+std::vector<double> samples_from(const py::handle& values, const char* expected, const char* name) {
+  auto array = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
+  if (!array) throw HostError(std::string(name) + ": expected " + expected);
   if (array.ndim() != 1) {
-    throw HostError("a_u: expected a 1-D array of samples, got " + std::to_string(array.ndim()) +
-                    " dimensions");
+    throw HostError(std::string(name) + ": expected a 1-D array of samples, got " +
+                    std::to_string(array.ndim()) + " dimensions");
   }
   const std::size_t count = static_cast<std::size_t>(array.shape(0));
   std::vector<double> samples;
@@ -57,7 +57,30 @@ std::vector<double> samples_from(const py::handle& a_u, const char* expected) {
   return samples;
 }
 
+host::SampledSignal read_recording_file(const std::string& path) {
+  host::LoadedRecording loaded = host::read_recording(path, host::RecordingOptions{});
+  host::require_force_as_read(path, loaded);
+  host::SampledSignal& signal = loaded.segments.front();
+  return std::move(signal);
+}
+
 namespace {
+
+// The generators' messages name the command's flags ("--duration/--dt: ..."); generate() takes
+// keyword arguments of the same names without the dashes ("duration/dt: ...").
+std::string with_argument_names(const std::string& message) {
+  const std::size_t head_end = message.find(": ");
+  if (message.rfind("--", 0) != 0 || head_end == std::string::npos) return message;
+  std::string head;
+  for (std::size_t i = 0; i < head_end; ++i) {
+    if (message.compare(i, 2, "--") == 0) {
+      ++i;  // the dashes of a flag go; a dash inside its name becomes the keyword's '_'
+    } else {
+      head += message[i] == '-' ? '_' : message[i];
+    }
+  }
+  return head + message.substr(head_end);
+}
 
 bool ends_with(const std::string& text, const char* suffix) {
   const std::size_t length = std::strlen(suffix);
@@ -69,8 +92,9 @@ bool ends_with(const std::string& text, const char* suffix) {
   return true;
 }
 
-// CSV (t,a_u) and .mat through the host's read_signal_file(); a candump log (.log) as the
-// SeatInput frames in it (valid CRC), one sample each, t = n dt.
+// A recording as simulate() reads it (read_recording_file(), f_a included when the file has the
+// column); a candump log (.log) as the SeatInput frames in it (valid CRC), one sample each,
+// t = n dt.
 py::dict read_recording(const py::object& path_like, double log_dt_s) {
   const std::string path = py::module_::import("os").attr("fspath")(path_like).cast<std::string>();
   if (ends_with(path, ".log")) {
@@ -96,13 +120,16 @@ py::dict read_recording(const py::object& path_like, double log_dt_s) {
     recording["skipped_frames"] = skipped;
     return recording;
   }
-  host::SampledSignal signal = host::read_signal_file(path);
-  return signal_dict(std::move(signal.t_s), std::move(signal.a_u_m_per_s2), signal.dt_s);
+  host::SampledSignal signal = read_recording_file(path);
+  py::dict recording =
+      signal_dict(std::move(signal.t_s), std::move(signal.a_u_m_per_s2), signal.dt_s);
+  if (!signal.f_a_n.empty()) recording["f_a"] = float64_array(std::move(signal.f_a_n));
+  return recording;
 }
 
-py::dict generate(const std::string& kind, std::optional<double> rms, double duration_s,
-                  double dt_s, std::uint64_t seed, double frequency_hz, double band_low_hz,
-                  double band_high_hz) {
+py::dict generate_samples(const std::string& kind, std::optional<double> rms, double duration_s,
+                          double dt_s, std::uint64_t seed, double frequency_hz, double band_low_hz,
+                          double band_high_hz) {
   std::vector<double> a_u;
   host::SpectrumSignalSpec spectrum;
   const host::TargetSpectrum* table = host::find_seat_test_spectrum(kind);
@@ -146,6 +173,17 @@ py::dict generate(const std::string& kind, std::optional<double> rms, double dur
   }
   std::vector<double> t = time_line(a_u.size(), dt_s);
   return signal_dict(std::move(t), std::move(a_u), dt_s);
+}
+
+py::dict generate(const std::string& kind, std::optional<double> rms, double duration_s,
+                  double dt_s, std::uint64_t seed, double frequency_hz, double band_low_hz,
+                  double band_high_hz) {
+  try {
+    return generate_samples(kind, rms, duration_s, dt_s, seed, frequency_hz, band_low_hz,
+                            band_high_hz);
+  } catch (const HostError& error) {
+    throw HostError(with_argument_names(error.what()));
+  }
 }
 
 // The CLI's `simulate --dt` on a uniform recording (host::resample_step(), libsoxr): the same

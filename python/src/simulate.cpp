@@ -1,8 +1,8 @@
 // simulate() and simulate_batch(): exactly what `stickslip simulate` runs (simulate_signal*,
-// add_ride_comfort, format_stats_json) on the same samples, so the trace and statistics equal the
-// command's bit for bit. The host's runner takes a std::vector, so the input is copied into one
-// with a single memcpy; the outputs are moved into numpy arrays that own them (no copy). Every
-// run releases the GIL.
+// add_ride_comfort, format_stats_json) on the same samples and actuator force, so the trace and
+// statistics equal the command's bit for bit. The host's runner takes a std::vector, so the input
+// is copied into one with a single memcpy; the outputs are moved into numpy arrays that own them
+// (no copy). Every run releases the GIL.
 #include <pybind11/stl.h>
 
 #include <algorithm>
@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "module.hpp"
-#include "stickslip/host/io/mat_file.hpp"
 #include "stickslip/host/run/stats_json.hpp"
 
 namespace stickslip::python {
@@ -72,8 +71,10 @@ struct Scratch {
   std::vector<float> a_u_float;
 };
 
-RunOutput run_spec(const RunSpec& spec, const std::vector<double>& a_u, double dt_s,
-                   const std::string& input_label, bool keep_trace, Scratch& scratch) {
+// f_a: the actuator force (N) per sample, or empty for none (the plain step(a_u) loop).
+RunOutput run_spec(const RunSpec& spec, const std::vector<double>& a_u,
+                   const std::vector<double>& f_a, double dt_s, const std::string& input_label,
+                   bool keep_trace, Scratch& scratch) {
   if (spec.scene_dt_s > 0.0 && std::fabs(dt_s - spec.scene_dt_s) > 1e-9 * spec.scene_dt_s) {
     throw HostError("dt = " + format_number(dt_s) + " s, but the scene " + spec.scene_path +
                     " has sample_rate_hz = " + format_number(1.0 / spec.scene_dt_s) +
@@ -82,6 +83,7 @@ RunOutput run_spec(const RunSpec& spec, const std::vector<double>& a_u, double d
   }
   SimulationSetup setup = spec.setup;
   setup.params.dt_s = dt_s;
+  if (!f_a.empty()) setup.actuator_force_n = &f_a;
   RunOutput output;
   output.reference = setup.reference;
   SimulationSummary summary;
@@ -95,7 +97,12 @@ RunOutput run_spec(const RunSpec& spec, const std::vector<double>& a_u, double d
       take_trace(output, trace, keep_trace);
     } else if (spec.scalar == ScalarType::float32) {
       // Converted once, before the loop: the float run sees only floats (and only finite ones).
+      // The force first at each sample, as the command checks it.
       for (std::size_t n = 0; n < a_u.size(); ++n) {
+        if (!f_a.empty() && std::fabs(f_a[n]) > static_cast<double>(FLT_MAX)) {
+          throw HostError("f_a = " + format_number(f_a[n]) + " at sample " + std::to_string(n) +
+                          " is beyond the range of a float (scalar='float')");
+        }
         if (std::fabs(a_u[n]) > static_cast<double>(FLT_MAX)) {
           throw HostError("a_u = " + format_number(a_u[n]) + " at sample " + std::to_string(n) +
                           " is beyond the range of a float (scalar='float')");
@@ -150,22 +157,42 @@ py::dict stats_dict(const RunOutput& output) {
 
 struct Recording {
   std::vector<double> t, a_u;
+  std::vector<double> f_a;  // empty: no actuator force
   double dt_s = 0.0;
   std::string path;
 };
 
-// The samples and dt of simulate's first two arguments: a file path (dt from its t column) or an
-// array with dt given.
-Recording recording_from(const py::handle& a_u, const py::object& dt) {
+// A file refuses a non-finite sample with its file:line (the command's reader); an array is
+// refused the same way, by its index, rather than run with the sample rejected by the core.
+void require_finite(const std::vector<double>& samples, const char* name) {
+  for (std::size_t n = 0; n < samples.size(); ++n) {
+    if (!std::isfinite(samples[n])) {
+      throw HostError(
+          std::string(name) + " = " + format_number(samples[n]) + " at sample " +
+          std::to_string(n) +
+          ": simulate needs finite samples (stickslip simulate refuses them in a file)");
+    }
+  }
+}
+
+// The samples, actuator force and dt of simulate's arguments: a file path (dt from its t column,
+// f_a from its column f_a, read as the command reads it) or arrays with dt given.
+Recording recording_from(const py::handle& a_u, const py::object& dt, const py::object& f_a) {
   Recording recording;
   if (is_path(a_u)) {
     recording.path = py::module_::import("os").attr("fspath")(a_u).cast<std::string>();
     if (!dt.is_none()) {
       throw HostError("dt: a recording file gives its own dt (from t); pass dt=None");
     }
-    host::SampledSignal signal = host::read_signal_file(recording.path);
+    if (!f_a.is_none()) {
+      throw HostError(
+          "f_a: a recording file gives its own actuator force (its column f_a); "
+          "pass f_a=None");
+    }
+    host::SampledSignal signal = read_recording_file(recording.path);
     recording.t = std::move(signal.t_s);
     recording.a_u = std::move(signal.a_u_m_per_s2);
+    recording.f_a = std::move(signal.f_a_n);
     recording.dt_s = signal.dt_s;
     return recording;
   }
@@ -174,21 +201,31 @@ Recording recording_from(const py::handle& a_u, const py::object& dt) {
   if (!(recording.dt_s > 0.0) || !std::isfinite(recording.dt_s)) {
     throw HostError("dt: must be a finite number > 0, got " + format_number(recording.dt_s));
   }
-  recording.a_u =
-      samples_from(a_u, "a 1-D array of samples (m/s^2) or a file path");  // t only when a trace is
-                                                                           // returned (time_line())
+  // t only when a trace is returned (time_line()).
+  recording.a_u = samples_from(a_u, "a 1-D array of samples (m/s^2) or a file path");
+  require_finite(recording.a_u, "a_u");
+  if (!f_a.is_none()) {
+    recording.f_a = samples_from(f_a, "a 1-D array of actuator forces (N)", "f_a");
+    if (recording.f_a.size() != recording.a_u.size()) {
+      throw HostError("f_a: " + std::to_string(recording.f_a.size()) + " forces for the " +
+                      std::to_string(recording.a_u.size()) +
+                      " samples of a_u (one per sample, held over the step that ends at it)");
+    }
+    require_finite(recording.f_a, "f_a");
+  }
   return recording;
 }
 
 py::tuple simulate(const py::handle& a_u, const py::object& dt, const py::dict& options,
-                   bool keep_trace) {
+                   bool keep_trace, const py::object& f_a) {
   const RunSpec spec = parse_spec(options);
-  Recording recording = recording_from(a_u, dt);
+  Recording recording = recording_from(a_u, dt, f_a);
   RunOutput output;
   {
     py::gil_scoped_release release;
     Scratch scratch;
-    output = run_spec(spec, recording.a_u, recording.dt_s, recording.path, keep_trace, scratch);
+    output = run_spec(spec, recording.a_u, recording.f_a, recording.dt_s, recording.path,
+                      keep_trace, scratch);
   }
   py::object trace = py::none();
   if (keep_trace) {
@@ -202,7 +239,7 @@ py::tuple simulate(const py::handle& a_u, const py::object& dt, const py::dict& 
 // Many parameter sets over one recording on a pool of threads: each run is run_spec(), the same
 // as a single call; the recording is shared read-only.
 py::list simulate_batch(const py::handle& a_u, const py::object& dt, const py::list& params_list,
-                        int threads, bool keep_trace) {
+                        int threads, bool keep_trace, const py::object& f_a) {
   std::vector<RunSpec> specs;
   for (std::size_t i = 0; i < params_list.size(); ++i) {
     try {
@@ -215,7 +252,7 @@ py::list simulate_batch(const py::handle& a_u, const py::object& dt, const py::l
   }
   if (threads < 0)
     throw HostError("threads: must be >= 0 (0: all cores), got " + std::to_string(threads));
-  Recording recording = recording_from(a_u, dt);
+  Recording recording = recording_from(a_u, dt, f_a);
   std::vector<RunOutput> outputs(specs.size());
   std::vector<std::exception_ptr> errors(specs.size());
   {
@@ -228,8 +265,8 @@ py::list simulate_batch(const py::handle& a_u, const py::object& dt, const py::l
       Scratch scratch;
       for (std::size_t i; (i = next.fetch_add(1)) < specs.size();) {
         try {
-          outputs[i] = run_spec(specs[i], recording.a_u, recording.dt_s, recording.path, keep_trace,
-                                scratch);
+          outputs[i] = run_spec(specs[i], recording.a_u, recording.f_a, recording.dt_s,
+                                recording.path, keep_trace, scratch);
         } catch (...) {
           errors[i] = std::current_exception();
         }
@@ -266,9 +303,9 @@ py::list simulate_batch(const py::handle& a_u, const py::object& dt, const py::l
 
 void bind_runs(py::module_& m) {
   m.def("simulate", &simulate, py::arg("a_u"), py::arg("dt"), py::arg("options"),
-        py::arg("trace") = true);
+        py::arg("trace") = true, py::arg("f_a") = py::none());
   m.def("simulate_batch", &simulate_batch, py::arg("a_u"), py::arg("dt"), py::arg("params_list"),
-        py::arg("threads") = 0, py::arg("trace") = true);
+        py::arg("threads") = 0, py::arg("trace") = true, py::arg("f_a") = py::none());
 }
 
 }  // namespace stickslip::python

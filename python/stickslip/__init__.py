@@ -55,11 +55,15 @@ def _options(values):
 def simulate(a_u, dt=None, model=None, mass=None, stiffness=None, damping=None, ffk=None,
              ffs=None, integrator=None, scalar="double", scene=None, *, stribeck_velocity=None,
              smoothing=None, smoothing_c=None, input_range=None, displacement_range=None,
-             x0=None, v0=None, repetitions=None, trace=True):
+             x0=None, v0=None, repetitions=None, trace=True, f_a=None):
     """Runs the seat model over a recording; returns (trace, stats).
 
-    a_u: the cab-floor acceleration, m/s^2 (a 1-D array, or the path of a CSV / .mat recording,
-    whose t column gives dt). dt: the sample interval, s (arrays only).
+    a_u: the cab-floor acceleration, m/s^2 (a 1-D array, or the path of a recording that
+    `stickslip simulate --input` reads without further flags: CSV, .mat, a logger's text with a
+    column a_u; its time column gives dt and its column f_a, when it has one, the actuator
+    force). dt: the sample
+    interval, s (arrays only). f_a: the actuator force on the seat, N, upward positive, one per
+    sample of a_u and held over the step that ends at it (arrays only; None: no actuator).
 
     trace: dict of numpy arrays t, a_u, x_r, v_r, a_x, f_f (float64) and stuck (bool), one row
     per input sample, row 0 the initial state (None with trace=False). stats: dict with the keys
@@ -72,26 +76,30 @@ def simulate(a_u, dt=None, model=None, mass=None, stiffness=None, damping=None, 
                             smoothing_c=smoothing_c, input_range=input_range,
                             displacement_range=displacement_range, x0=x0, v0=v0,
                             repetitions=repetitions))
-    return _stickslip.simulate(a_u, dt, options, trace)
+    return _stickslip.simulate(a_u, dt, options, trace, f_a)
 
 
-def simulate_batch(a_u, dt, params_list, threads=0, trace=True):
+def simulate_batch(a_u, dt, params_list, threads=0, trace=True, f_a=None):
     """Runs every parameter set of params_list (dicts of simulate's keyword arguments) over one
-    recording, on `threads` threads (0: all cores) with the GIL released.
+    recording (and actuator force f_a, if given), on `threads` threads (0: all cores) with the
+    GIL released.
 
     Returns a list of (trace, stats), in the order of params_list, each equal to
-    simulate(a_u, dt, **params). The traces share their t and a_u arrays.
+    simulate(a_u, dt, f_a=f_a, **params). The traces share their t and a_u arrays.
     """
     return _stickslip.simulate_batch(a_u, dt, [_options(dict(p)) for p in params_list],
-                                     threads, trace)
+                                     threads, trace, f_a)
 
 
 def read_recording(path, dt=1e-3):
-    """Reads a recording: CSV (t,a_u) or MATLAB .mat (a_u plus t or dt) as `simulate` reads it,
-    or a candump log (.log) of SeatInput frames (one sample per frame, t = n dt; frames of other
-    ids or with a bad CRC are skipped and counted in "skipped_frames").
+    """Reads a recording as `simulate` reads it (CSV with t,a_u and optionally f_a, MATLAB .mat
+    with a_u plus t or dt, a logger's text with a column a_u), or a candump log (.log) of
+    SeatInput frames (one sample per frame, t = n dt; frames of other ids or with a bad CRC are
+    skipped and counted in "skipped_frames").
 
-    Returns a dict with numpy arrays t, a_u and the sample interval dt (s).
+    Returns a dict with numpy arrays t, a_u, the sample interval dt (s) and, when the file has
+    the column, f_a (N): simulate(r["a_u"], r["dt"], f_a=r.get("f_a")) runs what
+    simulate(path) runs.
     """
     return _stickslip.read_recording(_os.fspath(path), dt)
 
@@ -132,8 +140,12 @@ class Oscillator(_stickslip.Oscillator):
         out = seat.step(a_u[1])               # Step: x_r, v_r, a_x, f_f, stuck, events, ...
         rows = seat.run(a_u[2:])              # the same steps for an array (dict of arrays)
 
-    reset() then step() over a recording gives simulate()'s trace bit for bit. Parameters as
-    simulate's (x0, v0 set the state the constructor resets to, with a_u0 = 0).
+    With an actuator force (N, held over the step): reset(..., f_a0=f_a[0]),
+    current(f_a=f_a[0]), step(a_u[n], f_a=f_a[n]), run(a_u, f_a=forces).
+
+    reset() then step() over a recording gives simulate()'s trace bit for bit (with the same
+    f_a, simulate(..., f_a=f_a)'s). Parameters as simulate's (x0, v0 set the state the
+    constructor resets to, with a_u0 = 0).
     """
 
     def __init__(self, dt, **parameters):

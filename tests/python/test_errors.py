@@ -116,3 +116,34 @@ def test_scene_with_a_different_sample_rate_is_refused(source_dir):
     scene = source_dir / "docs" / "scenes" / "lorry-seat-stick-slip.toml"
     with pytest.raises(ValueError, match=r"but the scene .* has sample_rate_hz"):
         stickslip.simulate(np.zeros(10), 0.002, scene=scene)
+
+
+def test_non_finite_sample_in_an_array_is_refused_by_its_index_as_the_command_refuses_a_file(
+        cli, tmp_path):
+    bad = tmp_path / "nan.csv"
+    bad.write_text("t,a_u\n0,0\n0.001,0.5\n0.002,nan\n0.003,0\n")
+    cli_message = cli_error(cli, "simulate", "--input", bad, "--output", tmp_path / "o.csv",
+                            "--model", "stick-slip", "--ffk", 40)
+    assert cli_message == f"stickslip: {bad}:4: column 'a_u': 'nan' is not a finite number"
+    with pytest.raises(ValueError, match=r"^a_u = nan at sample 2: simulate needs finite samples"):
+        stickslip.simulate(np.array([0.0, 0.5, np.nan, 0.0]), 0.001, model="stick-slip", ffk=40)
+    with pytest.raises(ValueError, match=r"^a_u = -inf at sample 1: "):
+        stickslip.simulate_batch(np.array([0.0, -np.inf]), 0.001, [{}])
+    with pytest.raises(ValueError, match=r"is not a finite number"):
+        stickslip.simulate(str(bad))
+
+
+@pytest.mark.parametrize("arguments,message", [
+    (dict(kind="lorry", rms=-1.0), r"^rms: must be a finite number > 0, got -1"),
+    (dict(kind="lorry", rms=1.0, dt=0.0), r"^dt: must be a finite number > 0, got 0"),
+    (dict(kind="lorry", rms=1.0, duration=float("nan")), r"^duration: must be a finite number"),
+    (dict(kind="lorry", rms=1.0, duration=1e-6), r"^duration/dt: 1e-06 s is shorter than one"),
+    (dict(kind="harmonic", rms=1.0, frequency=1e6), r"^frequency: harmonic needs 0 < frequency"),
+    (dict(kind="lorry", rms=1.0, dt=0.1), r"^dt: lorry needs 0.5/dt above 20 Hz"),
+    (dict(kind="EM6", duration=-1.0), r"^duration: must be a finite number > 0, got -1"),
+    (dict(kind="EM6", dt=0.5), r"^dt: EM6 has a corner at"),
+])
+def test_generate_errors_name_the_python_arguments_not_the_commands_flags(arguments, message):
+    with pytest.raises(ValueError, match=message) as raised:
+        stickslip.generate(**arguments)
+    assert "--" not in str(raised.value)

@@ -105,7 +105,7 @@ def test_resampled_recording_runs_a_scene_of_another_rate(cli, source_dir, tmp_p
     ((np.array([0.0, np.nan, 1.0]), 0.001, 0.002),
      r"^a_u = nan at sample 1: resampling needs finite samples$"),
     ((np.zeros(10), 0.001, 1.0),
-     r"^new_dt: 1 s leaves 0 of the recording's 10 samples at dt = 0.001 s \(at least 2"),
+     r"^new_dt: 1 s leaves 1 of the recording's 10 samples at dt = 0.001 s \(at least 2"),
     (("lorry.csv", 0.001, 0.002), r"^a_u: expected a 1-D array of samples \(m/s\^2\)$"),
 ])
 def test_resample_refuses_bad_arguments_in_one_line(arguments, message):

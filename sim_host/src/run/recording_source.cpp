@@ -234,6 +234,21 @@ LoadedRecording read_recording(const std::string& path, const RecordingOptions& 
   return loaded;
 }
 
+void require_force_as_read(const std::string& path, const LoadedRecording& recording) {
+  const std::vector<double>& f_a_n = recording.segments.front().f_a_n;
+  if (recording.report.actuator_force_unaligned) {
+    throw UsageError(path +
+                     ": column 'f_a': an actuator force runs on a recording read as it is (one "
+                     "part, its own step: no gaps held or split, no regridding, no resampling)");
+  }
+  if (!f_a_n.empty() && (recording.segments.size() != 1 ||
+                         f_a_n.size() != recording.segments.front().a_u_m_per_s2.size())) {
+    throw UsageError(path +
+                     ": column 'f_a': an actuator force runs on a recording read as it is (one "
+                     "part, its own step: no --gaps split, no resampling)");
+  }
+}
+
 void check_scene_rate(const std::string& path, const RecordingOptions& options, double dt_s,
                       const std::string& scene_path, double scene_dt_s) {
   if (options.dt_s > 0.0 || !(scene_dt_s > 0.0) ||

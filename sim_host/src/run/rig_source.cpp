@@ -88,7 +88,10 @@ bool RigSourceOptions::defaults() const noexcept {
 
 RigSource read_rig_source(const std::string& path, const RigSourceOptions& options) {
   RigSource source;
-  if (options.defaults()) {
+  // The project's rig CSV (a column t) is read strictly, in SI units; a logger's export (its own
+  // time column, units in the header, a banner, decimal commas) as simulate reads it.
+  if (options.defaults() &&
+      (has_mat_extension(path) || has_column(read_delimited_text(path), "t"))) {
     source.rig = read_rig_recording(path);
     return source;
   }

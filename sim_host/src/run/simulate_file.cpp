@@ -258,21 +258,9 @@ SimulateResult simulate_file(const SimulateRequest& request) {
                    request.scene_dt_s);
   SimulationSetup setup = request.setup;
   setup.params.dt_s = dt_s;
+  require_force_as_read(request.input_path, recording);
   const std::vector<double>& f_a_n = recording.segments.front().f_a_n;
-  if (recording.report.actuator_force_unaligned) {
-    throw UsageError(request.input_path +
-                     ": column 'f_a': an actuator force runs on a recording read as it is (one "
-                     "part, its own step: no gaps held or split, no regridding, no resampling)");
-  }
-  if (!f_a_n.empty()) {
-    if (recording.segments.size() != 1 ||
-        f_a_n.size() != recording.segments.front().a_u_m_per_s2.size()) {
-      throw UsageError(request.input_path +
-                       ": column 'f_a': an actuator force runs on a recording read as it is (one "
-                       "part, its own step: no --gaps split, no resampling)");
-    }
-    setup.actuator_force_n = &f_a_n;
-  }
+  if (!f_a_n.empty()) setup.actuator_force_n = &f_a_n;
 
   // Temporaries first: a bad output path fails before the work; any later failure removes them.
   AtomicOutputFile output(request.output_path);

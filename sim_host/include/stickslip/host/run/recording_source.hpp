@@ -79,6 +79,11 @@ LoadedRecording read_recording(const std::string& path, const RecordingOptions& 
 SampledSignal read_continuous_recording(const std::string& path, const RecordingOptions& options,
                                         const char* command, RecordingReport* report = nullptr);
 
+// An actuator force column (f_a) runs only on a recording read as it is: one part, on its own
+// step, nothing held, regridded or resampled, so each force stays on its sample. Refuses
+// anything else, naming the file (simulate and the Python module).
+void require_force_as_read(const std::string& path, const LoadedRecording& recording);
+
 // A scene's sample rate (scene_dt_s > 0) against the step dt_s of the recording read with
 // `options`: HostError naming both files and both steps, and the --dt that resamples the
 // recording to the scene's rate. A --dt given (options.dt_s > 0) overrides the scene's rate.

@@ -19,7 +19,10 @@ std::vector<double> spline_onto_grid(const std::vector<double>& t_s,
 // `values` sampled at in_rate_hz converted to out_rate_hz with libsoxr's very high quality
 // (SOXR_VHQ: linear phase, pass band to 0.95 of the lower Nyquist frequency, 175 dB stop-band
 // rejection), its delay removed so that output k is at time k / out_rate_hz from the same
-// origin. Returns min(out_count, what soxr delivers) samples; throws HostError if soxr fails.
+// origin. The record is continued past both ends by odd reflection before filtering, so a
+// constant or a ramp comes out unchanged up to its first and last sample; where out/in is no
+// ratio of small integers the start is continued by its value only (a constant still exact).
+// Returns min(out_count, what soxr delivers) samples; throws HostError if soxr fails.
 std::vector<double> resample_rate(const std::vector<double>& values, double in_rate_hz,
                                   double out_rate_hz, std::size_t out_count);
 

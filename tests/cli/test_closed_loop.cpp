@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -293,6 +294,21 @@ TEST(ClosedLoopCommand, RefusesAnUnknownControllerAndAForceColumnWithExit2) {
   CHECK_EQUAL(2, with_force.status);
   CHECK_TRUE(with_force.err.find("column 'f_a'") != std::string::npos);
   CHECK_FALSE(test::exists(dir.file("loop.csv")));
+  // A gain, lag or fraction out of its range is refused by its option, whichever controller
+  // runs (a passive loop would otherwise carry a NaN gain into its JSON).
+  for (const auto& [option, value, why] :
+       {std::tuple<const char*, const char*, const char*>{"--gain", "nan",
+                                                          "must be a finite number >= 0, got nan"},
+        {"--actuator-lag", "-1", "must be a finite number >= 0, got -1"},
+        {"--force-limit", "0", "must be a finite number > 0, got 0"},
+        {"--friction-compensation", "1.5", "must be a fraction in [0, 1], got 1.5"}}) {
+    const test::CliRun bad = test::run_stickslip(with(
+        {"closed-loop", "--input", input, "--output", dir.file("loop.csv"), option, value}, kSeat));
+    CHECK_EQUAL(2, bad.status);
+    STRCMP_EQUAL((std::string("stickslip: ") + option + ": " + why + "\n").c_str(),
+                 bad.err.c_str());
+    CHECK_FALSE(test::exists(dir.file("loop.csv")));
+  }
   // A sensor noise is an RMS: a negative or not-a-number one is a mistake, not "no noise".
   for (const char* option : {"--a-x-noise", "--x-r-noise"}) {
     for (const char* value : {"-1", "nan"}) {

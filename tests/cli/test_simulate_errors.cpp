@@ -48,6 +48,29 @@ TEST(SimulateErrors, MissingFile) {
                  in + ": cannot open: No such file or directory");
 }
 
+// A directory opens as a stream; its first read would throw a message naming no file.
+TEST(SimulateErrors, ADirectoryAsTheRecordingOrItsDbcIsNamed) {
+  TempDir other;
+  CHECK_TRUE(other.ok());
+  const std::string folder = other.file(".");
+  expect_refused({"--input", folder, "--signal", "a_u", "--model", "signum"},
+                 folder + ": cannot read: it is a directory");
+  const std::string in = write_input("t,a_u\n0,1\n0.001,2\n");
+  expect_refused({"--input", in, "--dbc", folder, "--signal", "M.S", "--model", "signum"},
+                 folder + ": cannot read: it is a directory");
+}
+
+// --dt in ms by mistake: refused before a grid of billions of samples is allocated.
+TEST(SimulateErrors, AStepThatWouldMakeBillionsOfSamplesIsRefusedUpFront) {
+  std::string text = "t [s],AccZ [g]\n";
+  for (int n = 0; n < 2000; ++n) text += std::to_string(n * 0.002) + ",1.0\n";
+  const std::string in = write_input(text);
+  expect_refused({"--input", in, "--signal", "AccZ", "--dt", "1e-9", "--model", "signum"},
+                 "--dt 1e-09: 4e+09 samples from the 3.998 s of " + in +
+                     ", more than the 1e+09 a recording may have (--dt is in seconds)",
+                 2);
+}
+
 TEST(SimulateErrors, EmptyFile) {
   expect_refused_file("", ":1: the file is empty; expected a header line naming the columns");
 }

@@ -1,5 +1,7 @@
 #include "loop_options.hpp"
 
+#include <fmt/format.h>
+
 #include "command.hpp"
 #include "stickslip/host/error.hpp"
 
@@ -20,18 +22,26 @@ void LoopControllerOptions::add_to(Options& command, ClosedLoopSetup& setup) {
   command.add_option("--controller", controller_,
                      "passive | skyhook | groundhook | skyhook-semi | groundhook-semi | "
                      "friction-compensation (default passive)");
-  command.add_option("--gain", setup.gain_ns_per_m, "hook gain c, N s/m (default 1500)");
-  command.add_option("--b-min", setup.min_damping_ns_per_m,
-                     "semi-active damper's least damping, N s/m (default 0)");
-  command.add_option("--b-max", setup.max_damping_ns_per_m,
-                     "semi-active damper's most damping, N s/m (default 3000)");
+  command.add_option("--gain", setup.gain_ns_per_m, "hook gain c, N s/m (default 1500)")
+      ->check(OptionCheck::non_negative);
+  command
+      .add_option("--b-min", setup.min_damping_ns_per_m,
+                  "semi-active damper's least damping, N s/m (default 0)")
+      ->check(OptionCheck::non_negative);
+  command
+      .add_option("--b-max", setup.max_damping_ns_per_m,
+                  "semi-active damper's most damping, N s/m (default 3000)")
+      ->check(OptionCheck::non_negative);
   command.add_option("--friction-compensation", setup.friction_compensation,
                      "fraction of the observer's friction estimate fed forward, in [0, 1] "
                      "(default 0; friction-compensation alone: 0.8)");
-  command.add_option("--force-limit", setup.force_limit_n,
-                     "actuator force limit, N (default 1000)");
-  command.add_option("--actuator-lag", setup.actuator_lag_s,
-                     "actuator first-order lag time constant, s (default 0: ideal)");
+  command
+      .add_option("--force-limit", setup.force_limit_n, "actuator force limit, N (default 1000)")
+      ->check(OptionCheck::positive);
+  command
+      .add_option("--actuator-lag", setup.actuator_lag_s,
+                  "actuator first-order lag time constant, s (default 0: ideal)")
+      ->check(OptionCheck::non_negative);
   command.add_option("--observer", observer_,
                      "estimator (state estimator on the measured a_x, x_r; default) | ideal "
                      "(the controller reads the plant's own v_r and F_f)");
@@ -50,6 +60,11 @@ void LoopControllerOptions::resolve(const Options& command, ClosedLoopSetup& set
     setup.observer = ObserverKind::ideal;
   } else {
     throw UsageError("--observer " + observer_ + ": expected estimator or ideal");
+  }
+  if (given(command, "--friction-compensation") &&
+      !(setup.friction_compensation >= 0.0 && setup.friction_compensation <= 1.0)) {
+    throw UsageError(fmt::format("--friction-compensation: must be a fraction in [0, 1], got {}",
+                                 setup.friction_compensation));
   }
   if (setup.controller == ControllerChoice::friction_compensation &&
       !given(command, "--friction-compensation")) {

@@ -23,6 +23,7 @@
 #include "stickslip/host/io/candump_log.hpp"
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string_view>
 
@@ -251,6 +252,9 @@ std::string format_frame(const can::Frame& frame, const std::string& where) {
 }  // namespace
 
 std::vector<LoggedFrame> read_candump_log(const std::string& path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    throw HostError(path + ": cannot read: it is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw HostError(path + ": cannot open the candump log");
   std::vector<LoggedFrame> frames;

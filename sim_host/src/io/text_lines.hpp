@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstddef>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -18,6 +19,10 @@ namespace stickslip::host::text {
 // Whole-file reads: recordings are tens of megabytes at most, and a reader that sees every line
 // at once can detect the layout (separator, header) before it parses a number.
 inline std::string read_file(const std::string& path) {
+  // A directory opens as a stream, and its first read throws a message that names no file.
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error))
+    throw HostError(path + ": cannot read: it is a directory");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw HostError(path + ": cannot open: " + std::strerror(errno));
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -68,6 +68,9 @@ std::vector<Part> parts_at_gaps(RawSeries& raw, double step, const RecordingOpti
   return parts;
 }
 
+// 1e9 samples of 8 bytes, several arrays of them per run: beyond it the machine runs out first.
+constexpr double kMaxResampledSamples = 1e9;
+
 double part_jitter(const Part& part, double step) {
   double jitter = 0.0;
   for (std::size_t i = 1; i < part.t_s.size(); ++i)
@@ -104,6 +107,14 @@ SampledSignal onto_model_step(const std::string& path, Part part, double step,
   const double t0 = part.t_s.front();
   bool resampled = false;
   if (options.dt_s > 0 && std::fabs(grid_step - options.dt_s) > kJitterTolerance * options.dt_s) {
+    // Refused before a grid that would not fit in memory is allocated (a --dt given in ms).
+    const double samples = (part.t_s.back() - part.t_s.front()) / options.dt_s + 1.0;
+    if (!(samples <= kMaxResampledSamples)) {
+      throw UsageError(fmt::format(
+          "--dt {}: {:.3g} samples from the {:.6g} s of {}, more than the {:.0e} a recording may "
+          "have (--dt is in seconds)",
+          options.dt_s, samples, part.t_s.back() - part.t_s.front(), path, kMaxResampledSamples));
+    }
     values = resample_step(values, grid_step, options.dt_s);
     resampled = report.resampled = true;
     report.resampled_to_hz = 1.0 / options.dt_s;

@@ -80,6 +80,19 @@ void check_request(const FitRequest& request) {
   }
   if (std::none_of(request.fit.begin(), request.fit.end(), [](bool fit) { return fit; }))
     throw UsageError("--fit: name at least one parameter to fit");
+  // A parameter of the model that is not fitted runs at the value given for it; none has a
+  // default that could stand for the seat on the rig.
+  for (std::size_t i = 0; i < kFitParameterCount; ++i) {
+    const auto parameter = static_cast<FitParameter>(i);
+    if (parameter != FitParameter::mass && model_has(request.model, parameter) && !request.fit[i] &&
+        !(request.start[i] > 0.0)) {
+      std::string name = kNames[i];  // as the options spell it
+      std::replace(name.begin(), name.end(), '_', '-');
+      throw UsageError(fmt::format(
+          "--fit: {} is not fitted, so the model needs its value: give --start {}=VALUE", name,
+          name));
+    }
+  }
 }
 
 // The automatic start: k from the peak of |a_x/a_u|, b from its height (for a linear seat the

@@ -69,6 +69,17 @@ std::vector<std::string> fit_warnings(const FitResult& result, const FitCovarian
         "the recording has no stick phase: the break-away force F_fs is not seen, so ffk and ffs "
         "cannot be told apart here");
   }
+  // A fit of the right model leaves the sensors' noise (ratio about 1); twice that is structure
+  // the model missed, and the intervals, which take the residual for white noise, are too narrow.
+  if (result.noise_m_per_s2 > 0.0 && result.rms_residual_m_per_s2 > 2.0 * result.noise_m_per_s2) {
+    warnings.push_back(fmt::format(
+        "the rms residual {:.4g} m/s^2 is {:.3g} times the white noise in a_x ({:.4g} m/s^2): the "
+        "model does not fit this recording to its noise (a local minimum of the fit, an effect "
+        "the model lacks, or channels that do not line up), and the 95 % intervals, which take "
+        "the residual for white noise, are too narrow",
+        result.rms_residual_m_per_s2, result.rms_residual_m_per_s2 / result.noise_m_per_s2,
+        result.noise_m_per_s2));
+  }
   for (std::size_t i = 0; i < count; ++i) {
     const bool static_on_kinetic =
         result.order[i] == FitParameter::ffs && u[i] <= box.lower[i] + 1e-9 &&

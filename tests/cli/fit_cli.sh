@@ -232,6 +232,13 @@ refuses 2 "--mass: must be a finite number > 0, got -3" --input rig.csv --mass -
 "$stickslip" fit --input rig.csv --mass 88.4 --upper ffk=40 >bound.txt
 grep -q "^warning: ffk ended on its bound" bound.txt || fail "no bound warning: $(cat bound.txt)"
 
+# A model without the seat's friction cannot fit it to the noise: the fit says so, and the right
+# model's fit of the same rig does not.
+"$stickslip" fit --input rig.csv --mass 88.4 --model linear >linear.txt
+grep -q "^warning: the rms residual .* times the white noise in a_x" linear.txt ||
+  fail "no misfit warning for a linear model of a stick-slip seat: $(cat linear.txt)"
+grep -q "^warning: the rms residual" out.txt && fail "a misfit warning on the right model: $(cat out.txt)"
+
 # Not converged: says so, status 1, no estimates.
 refuses 1 "the fit did not converge after 1 iterations" --input rig.csv --mass 88.4 --max-iterations 1
 

@@ -40,7 +40,9 @@ void check_alignment(const RigRecording& rig, const std::vector<double>& model_a
   if (std::labs(lag) < 3 || std::fabs(lag_s) < 3e-3) return;
   throw HostError(fmt::format(
       "{}: a_x is shifted by {} samples ({:.4g} ms, {}) against a_u: the measured a_x matches the "
-      "model best at that lag; align the channels (a seat model cannot delay its response)",
+      "model best at that lag; align the channels (a seat model cannot delay its response), or, "
+      "if they are aligned, the model does not fit the seat (another --model, or other --start "
+      "values of what is not fitted)",
       rig.path, std::labs(lag), 1e3 * std::fabs(lag_s), lag > 0 ? "late" : "early"));
 }
 

@@ -270,6 +270,7 @@ refuses 1 "a_x is shifted by" --input late.csv --mass 88.4
 refuses 2 "--fit mass: a_u, a_x and x_r fix only k/m, b/m and F/m" --input rig.csv --fit mass,stiffness
 refuses 2 "--fit: the linear model has no parameter ffk" --input rig.csv --mass 88.4 --model linear --fit stiffness,ffk
 refuses 2 "--mass: the seat's mass (kg) is needed" --input rig.csv
+refuses 2 "--start ffs=50 is below --start ffk=60: the static friction is at least the kinetic" --input rig.csv --mass 88.4 --start ffk=60 --start ffs=50
 refuses 2 "--fit: ffk is not fitted, so the model needs its value: give --start ffk=VALUE" --input rig.csv --mass 88.4 --fit stiffness,damping
 refuses 2 "--fit: stribeck-velocity is not fitted, so the model needs its value" --input rig.csv --mass 88.4 --model stribeck --fit stiffness,damping,ffk,ffs
 refuses 2 "--fit: unknown parameter 'friction'" --input rig.csv --mass 88.4 --fit stiffness,friction

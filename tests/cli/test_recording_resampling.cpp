@@ -371,3 +371,25 @@ TEST(RecordingResampling, ACandumpLogStampedSinceTheEpochIsUniformAtItsOwnStep) 
   DOUBLES_EQUAL(t_ax, log_stats["T_ax"].get<double>(), 1e-7 * t_ax);
   DOUBLES_EQUAL(csv_stats["p_stick"].get<double>(), log_stats["p_stick"].get<double>(), 0.0);
 }
+
+// Two columns that could be the time: the one named time is, wherever it stands (here after an
+// elapsed-time column in s that runs at half speed). And a constant signal has no full scale to
+// hit: no clipping is reported for it.
+TEST(RecordingResampling, TheColumnNamedTimeIsTheTimeAndAConstantIsNotClipped) {
+  TempDir dir;
+  std::string text = "Elapsed [s],time,a_u\n";
+  for (int n = 0; n < 500; ++n) {
+    char row[96];
+    std::snprintf(row, sizeof row, "%.17g,%.17g,9.80665\n", 0.002 * n, 0.001 * n);
+    text += row;
+  }
+  write_text(dir.file("in.txt"), text);
+  const stickslip::test::CliRun run =
+      run_stickslip({"simulate", "--input", dir.file("in.txt"), "--signal", "a_u", "--output",
+                     dir.file("out.csv"), "--model", "linear"});
+  CHECK_EQUAL(0, run.status);
+  const nlohmann::json stats = nlohmann::json::parse(stickslip::test::split_lines(run.out).back());
+  DOUBLES_EQUAL(0.001, stats["dt"].get<double>(), 0.0);
+  CHECK(run.err.find("clipping") == std::string::npos);
+  CHECK(run.out.find("clipping") == std::string::npos);
+}

@@ -80,6 +80,14 @@ void check_request(const FitRequest& request) {
   }
   if (std::none_of(request.fit.begin(), request.fit.end(), [](bool fit) { return fit; }))
     throw UsageError("--fit: name at least one parameter to fit");
+  const double start_ffk = request.start[at(FitParameter::ffk)];
+  const double start_ffs = request.start[at(FitParameter::ffs)];
+  if (model_has(request.model, FitParameter::ffs) && start_ffk > 0.0 && start_ffs > 0.0 &&
+      start_ffs < start_ffk) {
+    throw UsageError(fmt::format(
+        "--start ffs={} is below --start ffk={}: the static friction is at least the kinetic",
+        start_ffs, start_ffk));
+  }
   // A parameter of the model that is not fitted runs at the value given for it; none has a
   // default that could stand for the seat on the rig.
   for (std::size_t i = 0; i < kFitParameterCount; ++i) {

@@ -67,9 +67,11 @@ std::vector<std::string> fit_warnings(const FitResult& result, const FitCovarian
   const bool fits_static =
       std::find(result.order.begin(), result.order.end(), FitParameter::ffs) != result.order.end();
   if (fits_static && data.stuck_phases == 0) {
-    warnings.push_back(
-        "the recording has no stick phase: the break-away force F_fs is not seen, so ffk and ffs "
-        "cannot be told apart here");
+    warnings.push_back(fmt::format(
+        "the data show no stick phase of {} samples or more (a_x following a_u): where the seat "
+        "sticks only briefly, the break-away force F_fs is hardly seen, so ffk and ffs may not be "
+        "told apart here",
+        kStuckPhaseSamples));
   }
   // A fit of the right model leaves the sensors' noise (ratio about 1); twice that is structure
   // the model missed, and the intervals, which take the residual for white noise, are too narrow.

@@ -151,9 +151,17 @@ RawSeries read_can_series(const std::string& path, const RecordingOptions& optio
 const TextChannel* text_time_column(const std::string& path, const DelimitedTable& table,
                                     const RecordingOptions& options) {
   if (!options.time.empty()) return &table.channel(options.time);
+  // A column named t or time first, wherever it stands; else the first in s or ms.
+  std::vector<const TextChannel*> candidates;
   for (const TextChannel& channel : table.channels) {
     const std::string name = lower(channel.name);
-    if (name != "t" && name != "time" && channel.unit != "s" && channel.unit != "ms") continue;
+    if (name == "t" || name == "time") candidates.push_back(&channel);
+  }
+  for (const TextChannel& channel : table.channels) {
+    if (channel.unit == "s" || channel.unit == "ms") candidates.push_back(&channel);
+  }
+  for (const TextChannel* found : candidates) {
+    const TextChannel& channel = *found;
     if (options.rate_hz > 0) {
       throw UsageError(fmt::format(
           "--rate {}: {} has a time column, {}; --rate is for text without one (drop it, or "

@@ -159,6 +159,7 @@ double nominal_step(const std::vector<double>& t) {
 
 std::size_t clipped_samples(const std::vector<double>& v) {
   const auto [low, high] = std::minmax_element(v.begin(), v.end());
+  if (low == v.end() || *low == *high) return 0;  // a constant has no full scale to hit
   std::size_t clipped = 0;
   for (std::size_t i = 0; i < v.size();) {
     std::size_t end = i + 1;

@@ -111,6 +111,19 @@ TEST(DelimitedText, TabsWithDecimalCommas) {
   CHECK(bit_equal(-2.25, table.channel("x").values[1]));
 }
 
+// Many European exports end every line, header included, with the separator: it closes the last
+// cell. A row that then has fewer cells than the header is still named.
+TEST(DelimitedText, ASeparatorEndingEveryLineClosesTheLastCell) {
+  const DelimitedTable table =
+      parse_delimited_text("Time [s];AccZ [g];\n0,000;0,012;\n0,002;-0,5;\n", "export.csv");
+  CHECK_EQUAL(';', table.separator);
+  LONGS_EQUAL(2, table.channels.size());
+  STRCMP_EQUAL("AccZ", table.channels[1].name.c_str());
+  CHECK(bit_equal(-0.5, table.channel("AccZ").values[1]));
+  STRCMP_EQUAL("in.csv:3: expected 3 fields separated by ',' like line 2, found 2",
+               error_of("t,a_u,x\n0,1,2\n0.001,2,\n").c_str());
+}
+
 TEST(DelimitedText, BlankSeparatedWithoutHeaderIsSelectedByIndex) {
   const DelimitedTable table =
       parse_delimited_text("% acquisition banner\n  0.000   1.5\n  0.001  -1.5\n", "raw.dat");

@@ -28,7 +28,10 @@ std::vector<std::string_view> split(std::string_view line, char separator) {
   for (;;) {
     const std::size_t at = line.find(separator, start);
     if (at == std::string_view::npos) {
-      cells.push_back(line.substr(start));
+      // A separator that ends the line (many exports end every line with one) closes the last
+      // cell rather than opening an empty one.
+      if (cells.empty() || !text::trim(line.substr(start)).empty())
+        cells.push_back(line.substr(start));
       return cells;
     }
     cells.push_back(line.substr(start, at - start));

@@ -61,9 +61,9 @@ def simulate(a_u, dt=None, model=None, mass=None, stiffness=None, damping=None, 
     a_u: the cab-floor acceleration, m/s^2 (a 1-D array, or the path of a recording that
     `stickslip simulate --input` reads without further flags: CSV, .mat, a logger's text with a
     column a_u; its time column gives dt and its column f_a, when it has one, the actuator
-    force). dt: the sample
-    interval, s (arrays only). f_a: the actuator force on the seat, N, upward positive, one per
-    sample of a_u and held over the step that ends at it (arrays only; None: no actuator).
+    force). dt: the sample interval, s (arrays only). f_a: the actuator force on the seat, N,
+    upward positive, one per sample of a_u and held over the step that ends at it (arrays only;
+    None: no actuator).
 
     trace: dict of numpy arrays t, a_u, x_r, v_r, a_x, f_f (float64) and stuck (bool), one row
     per input sample, row 0 the initial state (None with trace=False). stats: dict with the keys

@@ -85,10 +85,14 @@ std::vector<std::string> fit_warnings(const FitResult& result, const FitCovarian
         result.noise_m_per_s2));
   }
   for (std::size_t i = 0; i < count; ++i) {
-    const bool static_on_kinetic =
-        result.order[i] == FitParameter::ffs && u[i] <= box.lower[i] + 1e-9 &&
-        std::find(result.order.begin(), result.order.end(), FitParameter::ffk) !=
-            result.order.end();
+    // The solver stops a hair inside an active bound (Ceres keeps iterates strictly feasible),
+    // so "on" it is within a millionth of it (u is scaled to order 1).
+    const auto near = [&u, i](double bound) {
+      return std::fabs(u[i] - bound) <= 1e-6 * std::max(1.0, std::fabs(bound));
+    };
+    const bool static_on_kinetic = result.order[i] == FitParameter::ffs && near(box.lower[i]) &&
+                                   std::find(result.order.begin(), result.order.end(),
+                                             FitParameter::ffk) != result.order.end();
     if (static_on_kinetic && !(relative_ci(result, i) <= 0.2)) {
       warnings.push_back(fmt::format(
           "ffk and ffs cannot be told apart on this recording: the fit puts ffs on ffk ({:.4g} N, "
@@ -106,11 +110,6 @@ std::vector<std::string> fit_warnings(const FitResult& result, const FitCovarian
       warnings.push_back(fmt::format("{} is poorly determined: 95 % interval +-{:.3g} %",
                                      name_of(result, i), 100.0 * relative_ci(result, i)));
     }
-    // The solver stops a hair inside an active bound (Ceres keeps iterates strictly feasible),
-    // so "on" it is within a millionth of it (u is scaled to order 1).
-    const auto near = [&u, i](double bound) {
-      return std::fabs(u[i] - bound) <= 1e-6 * std::max(1.0, std::fabs(bound));
-    };
     if (near(box.lower[i]) || near(box.upper[i]) || u[i] < box.lower[i] || u[i] > box.upper[i]) {
       warnings.push_back(
           fmt::format("{} ended on its bound: the estimate is the bound, not a "

@@ -80,10 +80,6 @@ for preset in cortex-m0plus cortex-m4f; do
     >"$work/$preset.wcet-frame.json"
   python3 tools/elf-wcet.py "$elf" CAN0_IRQHandler "${bounds[@]}" >"$work/$preset.wcet-gap.json"
 done
-# The float step with the event level the firmware's seat runs at (event_search_plan(): 0).
-python3 tools/elf-wcet.py build/cortex-m4f/port/baremetal/stickslip_firmware_qemu.elf CAN0_IRQHandler \
-  --bounds port/baremetal/loop-bounds.json --target cortex-m4f --set max_gap=0 --set kEventLevels=0 \
-  >"$work/cortex-m4f.wcet-frame-level0.json"
 
 stage "writing docs/EMBEDDED.md"
 WORK=$work COMMIT=$commit python3 - <<'EOF'
@@ -272,7 +268,7 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
     w("")
     w("```")
     keys = ["stickslip_node_on_frame", "stickslip_seat_step", "step_sticking", "::slip", "advance_block", "apply_step_map",
-            "multiply_raw", "first_crossing", "solve_falling", "whole_step_slips",
+            "multiply_raw", "first_crossing", "falling_root", "whole_step_slips",
             "relative_acceleration", "seat_acceleration", "write_output"]
     seen = set()
     for line in open(f"{work}/{preset}.su"):
@@ -404,8 +400,12 @@ w("**The bound.** Every loop of the step has a fixed trip count, stated in "
   "and the state at the root). No other loop runs in Q7.24: no block walk (one tick per step), "
   "and a proportion is 24 shift-and-subtract rounds. Stribeck, whose slip force changes with "
   "v_r inside a step, keeps a safety limit of 32 (`kMaxEventsPerStep`). Float bisects to dt/2^L "
-  "(L up to 16 by the seat's rate, at most 2^(L+1) - 1 block maps per step) and runs up to "
-  "`kMaxRootIterations` = 64 Newton or bisection iterations per root.")
+  "(L up to 16 by the seat's rate, at most 2^(L+1) - 1 block maps per step; L = 0 for the "
+  "firmware's seat, which the firmware fixes at build time, below) and its root search runs at "
+  "most `kMaxRootIterations<float>` = 38 iterations per root: Newton's in the first "
+  "`kRootNewtonIterations` = 16, bisection after them, and 22 bisections bring any bracket "
+  "within the search's tolerance, 4 eps (lo + hi) (`integrators/taylor_segment.hpp`; CTest "
+  "`RootSearch.*` reaches that bound and checks the tolerance there).")
 w("")
 wcet = {preset: {kind: json.load(open(f"{work}/{preset}.wcet-{kind}.json"))
                  for kind in ("step", "frame", "gap")} for preset in ("cortex-m0plus", "cortex-m4f")}
@@ -453,7 +453,21 @@ for loop in wcet["cortex-m0plus"]["gap"]["loops"]:
     w(f"| `{short_name(loop['function'])}` | {loop['header']} | {loop['bound']:,}"
       f"{' per call' if loop.get('per_call') else ''} | {loop['turn']:,} | {loop.get('why', '')} |")
 w("")
-wcet_m4f_l0 = json.load(open(f"{work}/cortex-m4f.wcet-frame-level0.json"))["instructions_bound"]
+w("The loops of the Cortex-M4F step and node:")
+w("")
+w("| function | loop | bound | longest turn | why |")
+w("|---|---|---|---|---|")
+for loop in wcet["cortex-m4f"]["gap"]["loops"]:
+    if loop["function"].startswith(("memcpy", "memset")):
+        continue
+    w(f"| `{short_name(loop['function'])}` | {loop['header']} | {loop['bound']:,}"
+      f"{' per call' if loop.get('per_call') else ''} | {loop['turn']:,} | {loop.get('why', '')} |")
+w("")
+m4_frame = wcet["cortex-m4f"]["frame"]["instructions_bound"]
+m4_hard = int(hard.get("cortex-m4f", {}).get("instructions_per_frame_max", 0))
+m4_constants = wcet["cortex-m4f"]["frame"]["constants"]
+m4_root_turn = max(loop["turn"] for loop in wcet["cortex-m4f"]["frame"]["loops"]
+                   if "falling_root" in loop["function"])
 m0_step = wcet["cortex-m0plus"]["step"]["instructions_bound"]
 m0_frame = wcet["cortex-m0plus"]["frame"]["instructions_bound"]
 m0_hard = int(hard.get("cortex-m0plus", {}).get("instructions_per_frame_max", 0))
@@ -471,17 +485,18 @@ w(f"**What the bound says.** **Cortex-M0+**: no frame that follows no gap takes 
   "at 48 MHz. An integrator with a frame budget sets `max_gap` so that "
   f"(max_gap + 1) x {m0_step:,} (the step's bound) plus the node fits it; a longer gap is then a "
   "resync (no samples held), counted in `FaultCounters::resync`. "
-  "**Cortex-M4F**: the bound is of no practical use, and says which loops make it so. The "
-  "analysis takes the float step's trip counts as the code states them for any seat: the block "
-  "walk of `slip()` at up to 2^17 - 1 block maps per step (L = 16; the firmware's seat has "
-  "L = 0, which is set at run time and which the analysis cannot see), each charged a turn that "
-  "includes a Taylor root search of up to 64 iterations, in up to 4 passes of the event loop "
-  "(the budget of 3 events). With L = 0 given (`--set kEventLevels=0`) "
-  f"the frame's bound is {wcet_m4f_l0:,}: the 4 passes times Taylor root searches of up to 64 "
-  "iterations each. A useful bound needs the seat's event level fixed at build time (the "
-  "analysis charges every block of the walk with the search inside a tick, which runs once per "
-  "slip phase) and a proven iteration count for the Taylor root search, whose 64 is a cap, not "
-  "a count derived from float's precision; until then QEMU's worst is the figure to use.")
+  f"**Cortex-M4F**: no frame that follows no gap takes more than {m4_frame:,} instructions, "
+  f"{m4_frame / max(m4_hard, 1):.0f} times the worst the hardest set reaches ({m4_hard:,}). "
+  "The firmware fixes its seat's event search at build time: `kSeatEventLevel` = "
+  f"{m4_constants['kSeatEventLevel']} and `kSeatTaylorOrder` = {m4_constants['kSeatTaylorOrder']} "
+  "in `port/baremetal/src/node.cpp`, the reference seat's plan (`Oscillator::event_search()`), "
+  "and `stickslip_node_start()` refuses a seat that needs a finer one (a stiffer seat or a longer "
+  "dt), so the block walk of `slip()` is one map per step and the polynomials are of degree 4 at "
+  "most. With the root search's proven bound of "
+  f"{m4_constants['kRootNewtonIterations'] + 22} iterations (about {m4_root_turn} instructions "
+  "each), what remains is far from tight: each of the event loop's 4 passes is charged a slip "
+  "pass whose root searches (a dip's minimum and its root) run to their bound, where the "
+  "hardest set's roots take 1 or 2 iterations from the root of the quadratic part.")
 w("")
 w("**Why the targets are missed.** "
   "**Cortex-M0+**: the cost of the arithmetic. A Q7.24 product is about 40 ARMv6-M instructions "

@@ -27,6 +27,13 @@ const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const
   return s.oscillator();
 }
 #endif
+// The event search this build's bound on the work of one step takes
+// (port/baremetal/loop-bounds.json, tools/elf-wcet.py): ticks of dt / 2^kSeatEventLevel, a Taylor
+// polynomial of order at most kSeatTaylorOrder (the reference seat's in float; Q7.24 solves its
+// cubic over the whole step). stickslip_node_start() refuses a seat that needs a finer search (a
+// stiffer seat or a longer dt), which would run past the bound.
+constexpr int kSeatEventLevel = 0;
+constexpr int kSeatTaylorOrder = 3;
 // Every sample SeatMotion and SeatForce, every tenth SeatStats and SeatScene (as the host node's
 // --outputs full).
 constexpr stickslip::can::OutputSet kOutputs = stickslip::can::OutputSet::full;
@@ -80,6 +87,9 @@ extern "C" int stickslip_node_start() {
       seat.configure(stickslip::can::seat_observer_params(params));
 #endif
   if (!result.ok()) return static_cast<int>(result.status);
+  const stickslip::EventSearchPlan plan = model_of(seat).event_search();
+  if (plan.tick_level > kSeatEventLevel || plan.taylor_order > kSeatTaylorOrder)
+    return static_cast<int>(stickslip::Status::unsupported);
   stickslip::can::EcuNodeParams node_params;
   node_params.outputs = kOutputs;
   return static_cast<int>(node.configure(node_params));

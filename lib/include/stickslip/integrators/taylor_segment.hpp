@@ -20,10 +20,24 @@ namespace stickslip {
 
 // Highest degree of v_r(u) the plan may ask for; x_r(u) has one degree more.
 inline constexpr int kMaxTaylorOrder = 10;
-// Iterations of the root search (solve_falling) at most: each one that is not a Newton step
-// inside the bracket halves the bracket, so 64 covers the 2^-52 resolution of double from [0, 1];
-// float stops earlier at its own tolerance.
-inline constexpr int kMaxRootIterations = 64;
+// The root search (falling_root()) takes Newton steps inside its bracket in its first
+// kRootNewtonIterations iterations and only bisects after them, so that its trip count is a
+// bound rather than a cap. From its first iterate Newton needed at most 13 iterations in double
+// and 9 in float over the tests' lorry, wideband and hardest inputs (13 files, 24 seats each,
+// about 1.8 million searches), so the limit does not change where those searches end.
+inline constexpr int kRootNewtonIterations = 16;
+// Bisections that take the bracket [lo, hi] (0 <= lo < hi) within the search's tolerance
+// 4 eps (lo + hi) of the root: a midpoint halves the bracket to within one ulp of hi (at most
+// eps hi), so after m of them it is within hi 2^-m + 2 eps hi of the root, inside the tolerance
+// once 2^-m <= 2 eps: m = digits - 2 (22 in float, 51 in double). A bracket in the subnormal
+// range (within 1e-38 of the tick's start in float) ends at the bound short of its tolerance.
+// Fixed point never runs the Taylor search (ScalarTraits::kTaylorEventSearch).
+template <typename T>
+inline constexpr int kRootBisections =
+    std::is_floating_point_v<T> ? std::numeric_limits<T>::digits - 2 : 0;
+// The most iterations of one root search: at least kRootBisections of them bisect.
+template <typename T>
+inline constexpr int kMaxRootIterations = kRootNewtonIterations + kRootBisections<T>;
 
 // Recurrence coefficients for one tick length H, in the tick-normalised time u = tau / H:
 //   X[n+1] = step[n] V[n],  V[n+1] = step[n] G[n] - stiffness[n] X[n] - damping[n] V[n]
@@ -140,6 +154,98 @@ struct PaddedPolynomial {
   static T square(T a) noexcept { return ScalarTraits<T>::abs(a) < square_floor() ? T(0) : a * a; }
 };
 
+// The search's first iterate: where f's quadratic Taylor polynomial about lo falls through
+// zero, if it does inside the bracket, else the secant through the ends. Where a slip starts
+// or v_r turns, f is dominated by its curvature (a tiny f(lo) and f'(lo), a large f''): the
+// secant then lands far short of the root, Newton's steps from there leave the bracket, and the
+// search bisects its way to the root: up to 17 iterations in float on a minute of the
+// Cortex-M4F's hardest input set (docs/EMBEDDED.md), and 2 at most from the quadratic's root.
+template <typename T>
+T falling_root_first_iterate(const PaddedPolynomial<T>& slope, const PaddedPolynomial<T>* curvature,
+                             T sign, T lo, T hi, T at_lo, T at_hi) noexcept {
+  const T secant = lo + (hi - lo) * (at_lo / (at_lo - at_hi));
+  if constexpr (std::is_floating_point_v<T>) {
+    if (curvature == nullptr) return secant;
+    using S = ScalarTraits<T>;
+    // f(lo) + b s + a s^2 with s = u - lo, f(lo) = at_lo > 0. Operands below the square floor
+    // are taken as 0 (c: the secant), so that every product is a normal number or exactly 0
+    // and no underflow is raised; the root from its stable form 2 c / (sqrt(D) - b).
+    const T floor = PaddedPolynomial<T>::square_floor();
+    const T c = at_lo;
+    if (!(c >= floor)) return secant;
+    T b = sign * (lo == T(0) ? slope.c[0] : slope(lo));
+    const T curve = sign * (lo == T(0) ? curvature->c[0] : (*curvature)(lo));
+    if (S::abs(b) < floor) b = T(0);
+    const T a = S::abs(curve) < floor ? T(0) : T(0.5) * curve;  // >= floor / 2 or 0
+    const T discriminant = b * b - (T(4) * a) * c;
+    if (!(discriminant >= T(0))) return secant;
+    const T denominator = std::sqrt(discriminant) - b;
+    // At least the floor: the quotient stays finite (c is a velocity, far below 2^60).
+    if (!(denominator >= floor)) return secant;
+    const T u = lo + (c + c) / denominator;
+    return u > lo && u < hi ? u : secant;
+  } else {
+    (void)slope;
+    (void)curvature;
+    (void)sign;
+    return secant;
+  }
+}
+
+// A root of the search below and the iterations it took (each one evaluation of f and f').
+template <typename T>
+struct FallingRoot {
+  T root;
+  int iterations;
+};
+
+// Root of f = sign * p in (lo, hi) given f(lo) > 0 > f(hi), with f' = sign * slope: Newton
+// from the secant through the ends, kept inside the bracket (bisection where Newton would leave
+// it; the step is tested against the bracket by multiplication, so nothing overflows or divides
+// by zero). With f'' = sign * curvature known, Newton's error after a step s is about
+// |f''/(2 f')| s^2: once that is below a few ulp of the interval the step is the answer,
+// without another evaluation to confirm it; otherwise it stops when the step is that small, or
+// the bracket is within its tolerance, after at most kMaxRootIterations<T> iterations.
+template <typename T>
+FallingRoot<T> falling_root(const PaddedPolynomial<T>& p, const PaddedPolynomial<T>& slope,
+                            const PaddedPolynomial<T>* curvature, T sign, T lo, T hi, T at_lo,
+                            T at_hi) noexcept {
+  using S = ScalarTraits<T>;
+  const T tolerance = T(4) * S::epsilon() * (S::abs(lo) + S::abs(hi));
+  const T inv_tolerance = tolerance > T(0) ? T(1) / tolerance : T(0);
+  T u = falling_root_first_iterate(slope, curvature, sign, lo, hi, at_lo, at_hi);
+  int iteration = 0;
+  while (iteration < kMaxRootIterations<T>) {
+    ++iteration;
+    const T value = sign * p(u);
+    const T gradient = sign * slope(u);
+    if (value == T(0)) return {u, iteration};
+    // Selects rather than branches: the sign of f at the iterate is data.
+    lo = value > T(0) ? u : lo;
+    hi = value < T(0) ? u : hi;
+    // Newton's step -value/gradient stays inside (lo, hi) iff -value lies strictly between
+    // gradient (hi - u) and gradient (lo - u) (gradient < 0: f falls through its root).
+    if (iteration <= kRootNewtonIterations && gradient < T(0) && -value < gradient * (lo - u) &&
+        -value > gradient * (hi - u)) {
+      const T step = -value / gradient;
+      const T next = u + step;
+      // |f''| s^2 <= 2 |f'| tolerance (as (|f''| |s|) (|s| / tolerance), so that no tiny
+      // square underflows).
+      const T size = S::abs(step);
+      if (size <= tolerance ||
+          (curvature != nullptr &&
+           (S::abs((*curvature)(u)) * size) * (size * inv_tolerance) <= T(2) * S::abs(gradient))) {
+        return {next, iteration};
+      }
+      u = next;
+    } else {
+      u = lo + (hi - lo) * T(0.5);
+    }
+    if (hi - lo <= tolerance) break;
+  }
+  return {u, iteration};
+}
+
 // x_r(u) = sum X[n] u^n and v_r(u) = sum V[n] u^n from a given state, u in tick units.
 template <typename T>
 class TaylorSegment {
@@ -185,7 +291,7 @@ class TaylorSegment {
       }
       const PaddedPolynomial<T> a = v_.derivative();
       const PaddedPolynomial<T> jerk = a.derivative();
-      root = solve_falling(v_, a, &jerk, d, lo, hi, at_lo, at_hi);
+      root = falling_root(v_, a, &jerk, d, lo, hi, at_lo, at_hi).root;
       return true;
     }
     // No sign change at the ends: a crossing needs a minimum of v_r d inside (a(lo) d < 0 <
@@ -195,93 +301,14 @@ class TaylorSegment {
     const T falling_hi = -d * a(hi);
     if (!(falling_lo > T(0) && falling_hi < T(0))) return false;
     const PaddedPolynomial<T> jerk = a.derivative();
-    const T minimum = solve_falling(a, jerk, nullptr, -d, lo, hi, falling_lo, falling_hi);
+    const T minimum = falling_root<T>(a, jerk, nullptr, -d, lo, hi, falling_lo, falling_hi).root;
     const T at_minimum = d * v_(minimum);
     if (!(at_minimum < T(0))) return false;
-    root = at_lo > T(0) ? solve_falling(v_, a, &jerk, d, lo, minimum, at_lo, at_minimum) : lo;
+    root = at_lo > T(0) ? falling_root(v_, a, &jerk, d, lo, minimum, at_lo, at_minimum).root : lo;
     return true;
   }
 
  private:
-  // Root of f = sign * p in (lo, hi) given f(lo) > 0 > f(hi), with f' = sign * slope: Newton
-  // from the secant through the ends, kept inside the bracket (bisection where Newton would leave
-  // it; the step is tested against the bracket by multiplication, so nothing overflows or divides
-  // by zero). With f'' = sign * curvature known, Newton's error after a step s is about
-  // |f''/(2 f')| s^2: once that is below a few ulp of the interval the step is the answer,
-  // without another evaluation to confirm it; otherwise it stops when the step is that small.
-  static T solve_falling(const PaddedPolynomial<T>& p, const PaddedPolynomial<T>& slope,
-                         const PaddedPolynomial<T>* curvature, T sign, T lo, T hi, T at_lo,
-                         T at_hi) noexcept {
-    using S = ScalarTraits<T>;
-    const T tolerance = T(4) * S::epsilon() * (S::abs(lo) + S::abs(hi));
-    const T inv_tolerance = tolerance > T(0) ? T(1) / tolerance : T(0);
-    T u = first_iterate(slope, curvature, sign, lo, hi, at_lo, at_hi);
-    for (int iteration = 0; iteration < kMaxRootIterations; ++iteration) {
-      const T value = sign * p(u);
-      const T gradient = sign * slope(u);
-      if (value == T(0)) return u;
-      // Selects rather than branches: the sign of f at the iterate is data.
-      lo = value > T(0) ? u : lo;
-      hi = value < T(0) ? u : hi;
-      // Newton's step -value/gradient stays inside (lo, hi) iff -value lies strictly between
-      // gradient (hi - u) and gradient (lo - u) (gradient < 0: f falls through its root).
-      if (gradient < T(0) && -value < gradient * (lo - u) && -value > gradient * (hi - u)) {
-        const T step = -value / gradient;
-        const T next = u + step;
-        // |f''| s^2 <= 2 |f'| tolerance (as (|f''| |s|) (|s| / tolerance), so that no tiny
-        // square underflows).
-        const T size = S::abs(step);
-        if (size <= tolerance ||
-            (curvature != nullptr && (S::abs((*curvature)(u)) * size) * (size * inv_tolerance) <=
-                                         T(2) * S::abs(gradient))) {
-          return next;
-        }
-        u = next;
-      } else {
-        u = lo + (hi - lo) * T(0.5);
-      }
-      if (hi - lo <= tolerance) break;
-    }
-    return u;
-  }
-
-  // The search's first iterate: where f's quadratic Taylor polynomial about lo falls through
-  // zero, if it does inside the bracket, else the secant through the ends. Where a slip starts
-  // or v_r turns, f is dominated by its curvature (a tiny f(lo) and f'(lo), a large f''): the
-  // secant then lands far short of the root, Newton's steps from there leave the bracket, and the
-  // search bisects its way to the root: up to 17 iterations in float on a minute of the
-  // Cortex-M4F's hardest input set (docs/EMBEDDED.md), and 2 at most from the quadratic's root.
-  static T first_iterate(const PaddedPolynomial<T>& slope, const PaddedPolynomial<T>* curvature,
-                         T sign, T lo, T hi, T at_lo, T at_hi) noexcept {
-    const T secant = lo + (hi - lo) * (at_lo / (at_lo - at_hi));
-    if constexpr (std::is_floating_point_v<T>) {
-      if (curvature == nullptr) return secant;
-      using S = ScalarTraits<T>;
-      // f(lo) + b s + a s^2 with s = u - lo, f(lo) = at_lo > 0. Operands below the square floor
-      // are taken as 0 (c: the secant), so that every product is a normal number or exactly 0
-      // and no underflow is raised; the root from its stable form 2 c / (sqrt(D) - b).
-      const T floor = PaddedPolynomial<T>::square_floor();
-      const T c = at_lo;
-      if (!(c >= floor)) return secant;
-      T b = sign * (lo == T(0) ? slope.c[0] : slope(lo));
-      const T curve = sign * (lo == T(0) ? curvature->c[0] : (*curvature)(lo));
-      if (S::abs(b) < floor) b = T(0);
-      const T a = S::abs(curve) < floor ? T(0) : T(0.5) * curve;  // >= floor / 2 or 0
-      const T discriminant = b * b - (T(4) * a) * c;
-      if (!(discriminant >= T(0))) return secant;
-      const T denominator = std::sqrt(discriminant) - b;
-      // At least the floor: the quotient stays finite (c is a velocity, far below 2^60).
-      if (!(denominator >= floor)) return secant;
-      const T u = lo + (c + c) / denominator;
-      return u > lo && u < hi ? u : secant;
-    } else {
-      (void)slope;
-      (void)curvature;
-      (void)sign;
-      return secant;
-    }
-  }
-
   PaddedPolynomial<T> x_;  // degree order + 1
   PaddedPolynomial<T> v_;  // degree order
 };

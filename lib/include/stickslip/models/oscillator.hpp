@@ -341,6 +341,11 @@ class Oscillator {
     return false;
   }
   T dt_s() const noexcept { return dt_s_; }
+  // The event search configure() chose: bisection to ticks of dt / 2^tick_level, then the Taylor
+  // polynomial of that order (0: interpolation, or Q7.24's cubic over the whole step). The trip
+  // counts of the step's block walk and root search follow from it (detail/event_search.hpp), so
+  // a build that bounds its step's work checks it (port/baremetal/src/node.cpp).
+  EventSearchPlan event_search() const noexcept { return {event_level_, taylor_.order}; }
   // Steps the event budget cut short (should stay 0; a non-zero count means a degenerate scene).
   std::uint64_t event_budget_exhausted() const noexcept { return counters_.event_budget_exhausted; }
   // Non-finite input samples replaced by the previous sample.

@@ -25,8 +25,9 @@
 //     walk only moves forward and evaluates each dyadic block of the step at most once (it starts
 //     at a position only on blocks that start there); lowest_set_bit(): at most L shifts;
 //   - finish_tick_taylor(): at most 2 passes (the second after the start guard), once per slip
-//     phase; the root search inside TaylorSegment: at most kMaxRootIterations; proportion(): F
-//     shift-and-subtract rounds (fixed point);
+//     phase; TaylorSegment::first_crossing(): at most two root searches (a dip's minimum and its
+//     root) of at most kMaxRootIterations<T> iterations each (38 in float, 67 in double);
+//     proportion(): F shift-and-subtract rounds (fixed point);
 //   - Q7.24: no block walk; finish_tick_cubic() once per slip phase, its root search at most
 //     kCubicRootNewtonSteps Newton steps from the root of its quadratic part (and one
 //     proportion for a dip's minimum).

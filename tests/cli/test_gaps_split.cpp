@@ -195,3 +195,21 @@ TEST(GapsSplit, SweepRunsEachPartFromRestAndSumsOverAllParts) {
     }
   }
 }
+
+// The refusal names the command the user ran, not replay, whose reader play and record share.
+TEST(GapsSplit, RecordAndPlayRefuseSplitNamingThemselves) {
+  const std::string input = dir.file("gapped.csv");
+  write_gapped(input);
+  const CliRun record = run_stickslip({"record", "--input", input, "--gaps", "split", "--output",
+                                       dir.file("out.log"), "--interface", "can0"});
+  LONGS_EQUAL(2, record.status);
+  STRCMP_CONTAINS("stickslip: --gaps split: record streams one continuous signal",
+                  record.err.c_str());
+  CHECK_FALSE(stickslip::test::exists(dir.file("out.log")));
+  const CliRun play =
+      run_stickslip({"play", "--input", input, "--gaps", "split", "--bus", "loopback"});
+  LONGS_EQUAL(2, play.status);
+  STRCMP_CONTAINS("stickslip: --gaps split: play streams one continuous signal", play.err.c_str());
+  CHECK(record.err.find("replay") == std::string::npos);
+  CHECK(play.err.find("replay") == std::string::npos);
+}

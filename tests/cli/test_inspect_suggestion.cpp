@@ -163,7 +163,8 @@ std::string vehicle_fixtures() {
   if (made) return dir;
   made = true;
   if (std::system("/usr/bin/python3 -c 'import can, canmatrix' >/dev/null 2>&1") != 0) return dir;
-  const std::string out = (std::filesystem::current_path() / "recording-fixtures-inspect").string();
+  // In the build tree, wherever the test runs from: never among the sources.
+  const std::string out = STICKSLIP_TEST_BINARY_DIR "/recording-fixtures-inspect";
   const std::string command = "/usr/bin/python3 " STICKSLIP_SOURCE_DIR
                               "/tools/make-recording-fixtures.py '" +
                               out + "' >/dev/null 2>&1";

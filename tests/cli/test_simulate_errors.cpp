@@ -175,6 +175,21 @@ TEST(SimulateErrors, AStepTheModelCannotTakeNamesTheFile) {
   LONGS_EQUAL(1, dir.entries().size());
 }
 
+// The model's step given by --dt is the option's value, a command-line error, not the file's.
+TEST(SimulateErrors, ADtOptionTheModelCannotTakeIsNamedAsTheOption) {
+  std::string text = "t,a_u\n";
+  for (int n = 0; n <= 40; ++n) text += std::to_string(n * 0.5) + ",0.5\n";
+  const std::string in = write_input(text);
+  const CliRun run = run_stickslip({"simulate", "--input", in, "--output", dir.file("out.csv"),
+                                    "--dt", "2", "--model", "stick-slip", "--ffk", "45"});
+  LONGS_EQUAL(2, run.status);
+  STRCMP_CONTAINS("stickslip: --dt 2: the model's step does not suit this model: dt_s: ",
+                  run.err.c_str());
+  CHECK(run.err.find("the time step of the file") == std::string::npos);
+  LONGS_EQUAL(1, stickslip::test::split_lines(run.err).size());
+  CHECK_FALSE(stickslip::test::exists(dir.file("out.csv")));
+}
+
 TEST(SimulateErrors, UnwritableOutputAndClashingNames) {
   const std::string in = write_input("t,a_u\n0,1\n0.001,2\n");
   const CliRun run = run_stickslip(

@@ -13,6 +13,7 @@
 #include "stickslip/host/io/can_signal.hpp"
 #include "stickslip/host/io/candump_log.hpp"
 #include "stickslip/host/io/dbc.hpp"
+#include "stickslip/host/run/recording_source.hpp"
 #include "support/host_test_support.hpp"
 // Last: CppUTest redefines `new` for its leak detection.
 #include "CppUTest/TestHarness.h"
@@ -22,6 +23,7 @@ using stickslip::host::CanLogFormat;
 using stickslip::host::detect_can_log_format;
 using stickslip::host::HostError;
 using stickslip::host::LogFrame;
+using stickslip::host::UsageError;
 using stickslip::test::bit_equal;
 using stickslip::test::TempDir;
 using stickslip::test::write_text;
@@ -252,10 +254,13 @@ std::string can_message(std::uint16_t channel, std::uint8_t flags, std::uint8_t 
   return out;
 }
 
-// A file of one stored (uncompressed) log container holding `inner`.
-std::string blf_file(const std::string& inner) {
+// A file of one stored (uncompressed) log container holding `inner`; `start` is the header's
+// start time (SYSTEMTIME: year, month, day of week, day, hour, minute, second, ms), zero if empty.
+std::string blf_file(const std::string& inner, const std::vector<std::uint16_t>& start = {}) {
   std::string out = "LOGG";
   put32(out, 144);
+  out.resize(40, '\0');
+  for (const std::uint16_t field : start) put16(out, field);
   out.resize(144, '\0');
   std::string container;
   put16(container, 0);  // stored
@@ -431,4 +436,143 @@ TEST(CanSignal, EachSampleNamesItsFrameByLineInTextAndByPlaceInBlf) {
   CHECK(!blf_series.frame_lines);
   LONGS_EQUAL(1, blf_series.frames.size());
   LONGS_EQUAL(2, blf_series.frames[0]);
+}
+
+TEST_GROUP(CanLogChannels){};
+
+namespace {
+
+// SeatInput (0x100) on can0 and can1 with other values of a_u (bytes 4-5), 1 kHz each, as candump
+// -l writes two buses into one log.
+std::string two_bus_candump() {
+  std::string text;
+  char line[96];
+  for (int n = 0; n < 20; ++n) {
+    for (const char* bus : {"can0", "can1"}) {
+      const int value = bus[3] == '0' ? n : 100 + n;
+      std::snprintf(line, sizeof line, "(1700000000.%06d) %s 100#00000000%02X000000\n", n * 1000,
+                    bus, value);
+      text += line;
+    }
+  }
+  return text;
+}
+
+std::string usage_error(const CanLog& log, const host::Dbc& dbc, const char* channel) {
+  try {
+    host::extract_signal(log, "bus.log", dbc, "SeatInput.a_u", channel);
+  } catch (const UsageError& error) {
+    return error.what();
+  }
+  return "(no error)";
+}
+
+}  // namespace
+
+TEST(CanLogChannels, ChannelKeepsTheFramesOfThatBusOnly) {
+  const host::Dbc dbc =
+      host::read_dbc(std::string(STICKSLIP_SOURCE_DIR) + "/docs/can/stickslip.dbc");
+  const CanLog log = host::parse_candump_text(two_bus_candump(), "bus.log");
+  const std::vector<std::string> channels = host::log_channels(log);
+  LONGS_EQUAL(2, channels.size());
+  STRCMP_EQUAL("can0", channels[0].c_str());
+  STRCMP_EQUAL("can1", channels[1].c_str());
+  const host::SignalSeries can0 =
+      host::extract_signal(log, "bus.log", dbc, "SeatInput.a_u", "can0");
+  const host::SignalSeries can1 =
+      host::extract_signal(log, "bus.log", dbc, "SeatInput.a_u", "can1");
+  LONGS_EQUAL(20, can0.values.size());
+  LONGS_EQUAL(20, can1.values.size());
+  for (std::size_t i = 0; i < 20; ++i) {
+    CHECK(bit_equal(1700000000.0 + 0.001 * static_cast<double>(i), can0.t_s[i]) ||
+          std::fabs(can0.t_s[i] - (1700000000.0 + 0.001 * static_cast<double>(i))) < 1e-6);
+    CHECK(can0.values[i] != can1.values[i]);  // the buses' own payloads, not merged
+  }
+}
+
+TEST(CanLogChannels, AChannelTheLogDoesNotHaveIsRefusedNamingItsChannels) {
+  const host::Dbc dbc =
+      host::read_dbc(std::string(STICKSLIP_SOURCE_DIR) + "/docs/can/stickslip.dbc");
+  const CanLog log = host::parse_candump_text(two_bus_candump(), "bus.log");
+  STRCMP_EQUAL("--channel can2: bus.log has no frame on that channel (its channels: can0, can1)",
+               usage_error(log, dbc, "can2").c_str());
+}
+
+// Two buses' frames in one stream would alternate between two signals: refused unless one is
+// picked; a log of one bus needs no --channel.
+TEST(CanLogChannels, AMessageOnTwoChannelsIsRefusedUntilOneIsPicked) {
+  const host::Dbc dbc =
+      host::read_dbc(std::string(STICKSLIP_SOURCE_DIR) + "/docs/can/stickslip.dbc");
+  const CanLog log = host::parse_candump_text(two_bus_candump(), "bus.log");
+  STRCMP_EQUAL(
+      "bus.log: message 'SeatInput' is on channels can0, can1; pick one bus with --channel NAME",
+      usage_error(log, dbc, "").c_str());
+  const CanLog one_bus = host::parse_candump_text(
+      "(1.000000) can1 100#0100000000000000\n(1.001000) can1 100#0200000000000000\n", "bus.log");
+  LONGS_EQUAL(2, host::extract_signal(one_bus, "bus.log", dbc, "SeatInput.a_u").values.size());
+}
+
+TEST_GROUP(CanLogTiming) {
+  TempDir dir;
+  void setup() override {
+    CHECK_TRUE(dir.ok());
+  }
+};
+
+namespace {
+
+// 1 s of SeatInput at 2 kHz as python-can's BLFWriter writes it from a clock since the epoch:
+// each object's timestamp is int((t - t_first) * 1e9) ns, t = 1.7e9 s + n / 2000 (moved by
+// `jitter` / 2 of the step, alternating in sign: steps `jitter` off), in doubles as Python computes
+// them; the header's start time is 2023-11-14 22:13:20.
+std::string epoch_clock_blf(double jitter) {
+  std::string inner;
+  const double t_first = 1.7e9;
+  for (int n = 0; n < 2000; ++n) {
+    const double wobble = n == 0 ? 0.0 : (n % 2 == 0 ? jitter : -jitter) / 2.0 / 2000.0;
+    const double t = 1.7e9 + n / 2000.0 + wobble;
+    const auto stamp = static_cast<std::uint64_t>((t - t_first) * 1e9);
+    const can::Frame frame =
+        can::make_input_frame(std::sin(0.01 * n), static_cast<std::uint64_t>(n));
+    inner += object_v1(1, 2, stamp,
+                       can_message(1, 0, frame.length, frame.id,
+                                   std::string(reinterpret_cast<const char*>(frame.data), 8)));
+  }
+  return blf_file(inner, {2023, 11, 2, 14, 22, 13, 20, 0});
+}
+
+host::RecordingOptions seat_input_options() {
+  host::RecordingOptions options;
+  options.dbc = std::string(STICKSLIP_SOURCE_DIR) + "/docs/can/stickslip.dbc";
+  options.signal = "SeatInput.a_u";
+  return options;
+}
+
+}  // namespace
+
+// The steps of such a log are 2097 or 2098 spacings of a double at 1.7e9 s (2.4e-7 s): 4.8e-4
+// of the step, which is rounding, not the bus's timing.
+TEST(CanLogTiming, A2kHzBlfTakenFromAClockSinceTheEpochIsUniform) {
+  const std::string path = dir.file("epoch.blf");
+  write_text(path, epoch_clock_blf(0.0));
+  const CanLog log = host::read_can_log(path);
+  DOUBLES_EQUAL(1.7e9, log.start_time_epoch_s, 1e-3);
+  const host::LoadedRecording loaded = host::read_recording(path, seat_input_options());
+  LONGS_EQUAL(1, loaded.segments.size());
+  LONGS_EQUAL(2000, loaded.segments.front().a_u_m_per_s2.size());
+  LONGS_EQUAL(0, loaded.report.regridded_samples);
+  CHECK(loaded.report.jitter_max > 1e-4);  // the rounding is there, and tolerated
+  DOUBLES_EQUAL(2000.0, loaded.report.source_rate_hz, 0.01);
+}
+
+TEST(CanLogTiming, FivePercentJitterInAnEpochClockBlfIsStillJitter) {
+  const std::string path = dir.file("jitter.blf");
+  write_text(path, epoch_clock_blf(0.05));
+  try {
+    host::read_recording(path, seat_input_options());
+    FAIL("expected a HostError");
+  } catch (const HostError& error) {
+    STRCMP_CONTAINS(": the sample times jitter by up to ", error.what());
+    STRCMP_CONTAINS("give --dt S", error.what());
+  }
 }

@@ -10,7 +10,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <map>
 #include <sstream>
 #include <string>
@@ -46,7 +45,8 @@ const char* fixture_dir() {
   for (const char* python : pythons) {
     const std::string probe = std::string(python) + " -c 'import can, canmatrix' >/dev/null 2>&1";
     if (std::system(probe.c_str()) != 0) continue;
-    const std::string out = (std::filesystem::current_path() / "recording-fixtures").string();
+    // In the build tree, wherever the test runs from: never among the sources.
+    const std::string out = STICKSLIP_TEST_BINARY_DIR "/recording-fixtures";
     const std::string command = std::string(python) +
                                 " " STICKSLIP_SOURCE_DIR "/tools/make-recording-fixtures.py '" +
                                 out + "' >'" + out + ".log' 2>&1";

@@ -31,9 +31,10 @@ bool ends_with(const std::string& text, const std::string& suffix) {
 
 }  // namespace
 
-BusRecording frames_from_csv(const std::string& path, const RecordingOptions& options) {
+BusRecording frames_from_csv(const std::string& path, const RecordingOptions& options,
+                             const char* command) {
   RecordingReport report;
-  const SampledSignal signal = read_continuous_recording(path, options, "replay", &report);
+  const SampledSignal signal = read_continuous_recording(path, options, command, &report);
   BusRecording recording;
   recording.recording_note = describe_recording(path, report);
   recording.t_s = signal.t_s;
@@ -140,10 +141,13 @@ BusRecording frames_from_log(const std::string& path, double dt_s, bool dt_given
 }
 
 BusRecording read_bus_recording(const std::string& path, double log_dt_s,
-                                const RecordingOptions& recording, bool dt_given, bool log_times) {
-  return ends_with(path, ".log") && recording.dbc.empty()
+                                const RecordingOptions& recording, bool dt_given, bool log_times,
+                                const char* command) {
+  // --channel without --dbc goes to the recording reader, which refuses it: the log's frames
+  // would be sent as they are, every bus's.
+  return ends_with(path, ".log") && recording.dbc.empty() && recording.channel.empty()
              ? frames_from_log(path, log_dt_s, dt_given, log_times)
-             : frames_from_csv(path, recording);
+             : frames_from_csv(path, recording, command);
 }
 
 }  // namespace stickslip::host

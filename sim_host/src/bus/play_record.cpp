@@ -45,8 +45,8 @@ std::string play_json(const PlayRequest& request, const PlayResult& result) {
 PlayResult play_file(const PlayRequest& request) {
   if (!(request.speed > 0.0) || !std::isfinite(request.speed))
     throw UsageError(fmt::format("--speed: must be a positive factor, got {}", request.speed));
-  const BusRecording recording = read_bus_recording(request.input_path, request.log_dt_s,
-                                                    request.recording, request.log_dt_given);
+  const BusRecording recording = read_bus_recording(
+      request.input_path, request.log_dt_s, request.recording, request.log_dt_given, true, "play");
   std::unique_ptr<port::Transport> bus = open_bus(request.bus, "--bus");
   // The sender reads nothing: a filter no frame of the project matches (an extended id), so that
   // the kernel does not queue the whole bus for it.
@@ -116,7 +116,7 @@ std::uint64_t record_log(const RecordRequest& request, std::uint64_t& saturated,
   if (!(request.start_time_s < 0.0) && !(request.start_time_s < 1e10))
     throw UsageError(fmt::format("--start-time: must be s since the Unix epoch (0 .. 1e10), got {}",
                                  request.start_time_s));
-  const BusRecording recording = frames_from_csv(request.input_path, request.recording);
+  const BusRecording recording = frames_from_csv(request.input_path, request.recording, "record");
   if (recording_note != nullptr) *recording_note = recording.recording_note;
   // The wall clock at the start, then the recording's own time line: log2asc and other tools
   // date the log by its first time stamp (a log that starts at 0 is dated 1970).

@@ -16,6 +16,9 @@ class InspectCommand : public Command {
     inspect.add_option("--signal", options_.signal,
                        "the signal to suggest (default: the first "
                        "with an acceleration unit)");
+    inspect.add_option("--channel", options_.channel,
+                       "CAN log: describe the frames of this bus only (the log's channels are "
+                       "listed without it)");
     inspect.add_option("--time", options_.time, "text: the time column");
     inspect.add_option("--rate", options_.rate_hz, "text without a time column: sample rate, Hz");
   }

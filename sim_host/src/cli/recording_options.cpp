@@ -16,6 +16,9 @@ void RecordingOptionGroup::add_to(Options& command, bool with_dt, bool with_rate
   group->add_option("--dbc", options_.dbc,
                     "DBC file: read the input as a CAN log "
                     "(candump, ASC, BLF, TRC)");
+  group->add_option("--channel", options_.channel,
+                    "CAN log: decode the frames of this bus only (candump interface, ASC/BLF/TRC "
+                    "channel number; stickslip inspect lists them)");
   group->add_option("--time", options_.time,
                     "text: the time column (default: one named t or time, or in s)");
   if (with_rate) {
@@ -29,7 +32,7 @@ void RecordingOptionGroup::add_to(Options& command, bool with_dt, bool with_rate
   group
       ->add_option("--gaps", gaps_, "refuse | hold | split: a step over 1.5 nominal steps is a gap")
       ->capture_default_str();
-  for (const char* name : {"--signal", "--dbc", "--time", "--unit", "--gaps"})
+  for (const char* name : {"--signal", "--dbc", "--channel", "--time", "--unit", "--gaps"})
     command.get_option(name)->group("Recording");
   if (with_dt) {
     group

@@ -1,6 +1,6 @@
 // The recording options of every command that reads a recording (simulate, replay, play, record,
-// sweep, advise, psd, fit): --signal, --dbc, --time, --rate, --unit, --gaps and the model's step
-// --dt, declared once as an option group. Private to the host library.
+// sweep, advise, psd, fit): --signal, --dbc, --channel, --time, --rate, --unit, --gaps and the
+// model's step --dt, declared once as an option group. Private to the host library.
 #pragma once
 
 #include "options.hpp"

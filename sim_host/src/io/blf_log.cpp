@@ -12,6 +12,9 @@
 //   CAN_MESSAGE (1), CAN_MESSAGE2 (86)  u16 channel, u8 flags (bit 0 Tx, bit 7 remote),
 //                 u8 dlc, u32 id (bit 31: extended), 8 data bytes
 //
+// The file header's start time is a SYSTEMTIME at byte 40 (u16 year, month, day of week, day,
+// hour, minute, second, millisecond); it is kept as CanLog::start_time_epoch_s, not added.
+//
 // The object flags give the timestamp unit: 1 -> 10 us, 2 -> 1 ns. Every other object type
 // (CAN FD, error frames, statistics, markers) is counted and skipped. All integers are
 // little-endian. Every length is checked against what is there before it is used, and a
@@ -44,6 +47,24 @@ std::uint64_t u64(const unsigned char* p) {
   return static_cast<std::uint64_t>(u32(p)) | (static_cast<std::uint64_t>(u32(p + 4)) << 32);
 }
 
+// The header's start time in seconds since the epoch, or 0 when it is no date (a writer that
+// leaves it zero): only its size matters to the reader (CanLog::start_time_epoch_s).
+double start_time_epoch_s(const unsigned char* header) {
+  constexpr std::size_t kStartTime = 40;
+  const unsigned char* p = header + kStartTime;
+  const int year = u16(p), month = u16(p + 2), day = u16(p + 6);
+  if (year < 1970 || year > 9999 || month < 1 || month > 12 || day < 1 || day > 31) return 0.0;
+  // Days from 1970-01-01 to the date (the civil-calendar count of H. Hinnant's days_from_civil).
+  const int y = year - (month <= 2 ? 1 : 0);
+  const int era = y / 400;
+  const int year_of_era = y - era * 400;
+  const int day_of_year = (153 * (month + (month > 2 ? -3 : 9)) + 2) / 5 + day - 1;
+  const int day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year;
+  const double days = static_cast<double>(era) * 146097.0 + day_of_era - 719468.0;
+  return days * 86400.0 + u16(p + 8) * 3600.0 + u16(p + 10) * 60.0 + u16(p + 12) +
+         u16(p + 14) * 1e-3;
+}
+
 class BlfParser {
  public:
   BlfParser(std::string_view bytes, const std::string& path) : bytes_(bytes), path_(path) {}
@@ -57,6 +78,7 @@ class BlfParser {
     if (header_size < kFileHeaderMin || header_size > bytes_.size())
       fail_at(4, "file header size " + std::to_string(header_size) + " is not 144.." +
                      std::to_string(bytes_.size()));
+    log_.start_time_epoch_s = start_time_epoch_s(data);
     std::size_t at = header_size;
     while (at < bytes_.size()) {
       // Top-level objects are 4-byte aligned; trailing padding bytes end the file.

@@ -6,6 +6,7 @@
 
 #include <cctype>
 #include <charconv>
+#include <set>
 
 #include "stickslip/host/error.hpp"
 #include "text_lines.hpp"
@@ -172,6 +173,12 @@ CanLogFormat detect_can_log_format(std::string_view head, const std::string& pat
                   ": not a CAN log this tool reads (no BLF 'LOGG' signature, ASC 'date'/'base' "
                   "line, TRC ';$FILEVERSION' line or candump '(seconds) interface id#data' "
                   "record, and no .blf, .asc, .trc or .log extension)");
+}
+
+std::vector<std::string> log_channels(const CanLog& log) {
+  std::set<std::string> channels;
+  for (const LogFrame& frame : log.frames) channels.insert(frame.channel);
+  return {channels.begin(), channels.end()};
 }
 
 CanLogFormat detect_can_log_format(const std::string& path) {

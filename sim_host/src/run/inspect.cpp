@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <tuple>
 
 #include "recording_series.hpp"
 #include "stickslip/host/error.hpp"
@@ -44,7 +45,8 @@ struct Timing {
   std::size_t gaps = 0;
 };
 
-Timing describe_times(const std::vector<double>& t) {
+// `origin_s`: the clock's reading at t = 0 (RawSeries::time_origin_s).
+Timing describe_times(const std::vector<double>& t, double origin_s = 0.0) {
   Timing timing;
   if (t.size() < 2) {
     timing.text = fmt::format("{} sample(s): too few to run\n", t.size());
@@ -67,7 +69,7 @@ Timing describe_times(const std::vector<double>& t) {
       jitter = std::max(jitter, std::fabs(step - h) / h);
     }
   }
-  timing.uniform = steps_uniform(jitter, h, t.front(), t.back());
+  timing.uniform = steps_uniform(jitter, h, origin_s + t.front(), origin_s + t.back());
   timing.text = fmt::format(
       "  samples {}, from t = {} s to {} s ({:.6g} s)\n  rate {:.6g} Hz (the mean step); step "
       "min/median/max {:.6g} / {:.6g} / {:.6g} s; jitter {:.3g} % of the mean step ({})\n",
@@ -95,7 +97,7 @@ std::string describe_values(const std::string& label, const std::string& unit,
   const bool acceleration = acceleration_unit_factor(unit, factor);
   return fmt::format(
       "  {} [{}]{}: min {:.6g}, max {:.6g}, rms {:.6g}; NaN {}; at full scale {} samples "
-      "(runs of >= 3 at the min or max)\n",
+      "(runs of >= 3 at the min or max that the signal ran into)\n",
       label, unit.empty() ? "no unit" : unit, acceleration ? "" : " (not an acceleration)", low,
       high, std::sqrt(sum2 / static_cast<double>(v.size())), nans, clipped_samples(v));
 }
@@ -224,18 +226,41 @@ std::string inspect_text(const std::string& path, const RecordingOptions& option
   return text + suggestion(path, flags);
 }
 
+// "  CabFloor.AccZ: 12 frames of the message too short for the signal (not decoded)\n" or "".
+std::string describe_too_short(const std::string& name, std::size_t frames_too_short) {
+  if (frames_too_short == 0) return "";
+  return fmt::format("  {}: {} frames of the message too short for the signal (not decoded)\n",
+                     name, frames_too_short);
+}
+
 std::string inspect_can(const std::string& path, const RecordingOptions& options) {
   const CanLog log = read_can_log(path);
   std::string text = fmt::format("{}: {} CAN log, {} data frames, {} other events skipped\n", path,
                                  format_name(log.format), log.frames.size(), log.skipped_events);
-  std::map<std::pair<std::uint32_t, bool>, std::vector<double>> by_id;
-  for (const LogFrame& frame : log.frames)
-    by_id[{frame.id, frame.extended}].push_back(frame.time_s);
+  const std::vector<std::string> channels = log_channels(log);
+  std::map<std::string, std::size_t> frames_on;
+  for (const LogFrame& frame : log.frames) ++frames_on[frame.channel];
+  require_channel(log, path, options.channel);
+  text += "channels:";
+  for (std::size_t i = 0; i < channels.size(); ++i) {
+    text += fmt::format("{} {} ({} frames)", i == 0 ? "" : ",",
+                        channels[i].empty() ? "(none)" : channels[i], frames_on[channels[i]]);
+  }
+  text += channels.size() > 1 ? " (pick one with --channel NAME)\n" : "\n";
+  // Per bus: the same id on two channels is two messages.
+  std::map<std::tuple<std::uint32_t, bool, std::string>, std::vector<double>> by_id;
+  for (const LogFrame& frame : log.frames) {
+    if (!options.channel.empty() && frame.channel != options.channel) continue;
+    by_id[{frame.id, frame.extended, frame.channel}].push_back(frame.time_s);
+  }
+  const bool several = channels.size() > 1 && options.channel.empty();
   if (options.dbc.empty()) {
     text += "ids (give --dbc FILE to decode their signals):\n";
     for (const auto& [id, times] : by_id) {
-      text += fmt::format("  {:X}{}: {} frames, {:.6g} Hz\n", id.first, id.second ? "x" : "",
-                          times.size(), times.size() > 1 ? 1.0 / median_step(times) : 0.0);
+      text += fmt::format("  {}{:X}{}: {} frames, {:.6g} Hz\n",
+                          several ? std::get<2>(id) + " " : std::string(), std::get<0>(id),
+                          std::get<1>(id) ? "x" : "", times.size(),
+                          times.size() > 1 ? 1.0 / nominal_step(times) : 0.0);
     }
     return text + "simulate it with: stickslip simulate --input " + shell_word(path) +
            " --dbc DBC --signal MESSAGE.SIGNAL --dt 0.001 --model stick-slip --output OUT.csv\n";
@@ -243,29 +268,53 @@ std::string inspect_can(const std::string& path, const RecordingOptions& options
   const Dbc dbc = read_dbc(options.dbc);
   text += fmt::format("signals of {} in the log:\n", options.dbc);
   std::string pick = options.signal;
+  std::string pick_channel = options.channel;
   std::vector<double> pick_times;
   for (const DbcMessage& message : dbc.messages) {
-    const auto found = by_id.find({message.id, message.extended});
-    if (found == by_id.end()) continue;
-    for (const DbcSignal& signal : message.signals) {
-      const std::string name = message.name + "." + signal.name;
-      const SignalSeries series = extract_signal(log, path, dbc, name);
-      text += describe_values(name, series.unit, series.values);
-      double factor = 0.0;
-      if (pick.empty() && !series.unit.empty() && acceleration_unit_factor(series.unit, factor))
-        pick = name;
-      if (name == pick) pick_times = series.t_s;
+    // The channels that carry the message, each described apart.
+    std::vector<std::string> carrying;
+    for (const auto& [id, times] : by_id) {
+      if (std::get<0>(id) == message.id && std::get<1>(id) == message.extended)
+        carrying.push_back(std::get<2>(id));
+    }
+    for (const std::string& channel : carrying) {
+      const std::string on = options.channel.empty() && carrying.size() > 1 ? channel : "";
+      for (const DbcSignal& signal : message.signals) {
+        const std::string name = message.name + "." + signal.name;
+        const std::string label = on.empty() ? name : name + " on " + on;
+        SignalSeries series;
+        try {
+          series = extract_signal(log, path, dbc, name, on.empty() ? options.channel : on);
+        } catch (const UsageError&) {
+          throw;
+        } catch (const HostError& error) {
+          // A signal no frame is long enough for is described, not the end of the inspection.
+          text += fmt::format("  {}: not decoded: {}\n", label, error.what());
+          continue;
+        }
+        text += describe_values(label, series.unit, series.values);
+        text += describe_too_short(label, series.frames_too_short);
+        double factor = 0.0;
+        if (pick.empty() && !series.unit.empty() && acceleration_unit_factor(series.unit, factor))
+          pick = name;
+        if (name == pick && pick_times.empty()) {
+          pick_times = series.t_s;
+          if (!on.empty()) pick_channel = on;
+        }
+      }
     }
   }
   if (pick.empty()) {
     return text + "no signal of the DBC in the log has an acceleration unit; give --signal\n";
   }
-  if (pick_times.empty()) pick_times = extract_signal(log, path, dbc, pick).t_s;
-  text += fmt::format("time of {}:\n", pick);
-  const Timing timing = describe_times(pick_times);
+  if (pick_times.empty()) pick_times = extract_signal(log, path, dbc, pick, options.channel).t_s;
+  const std::string flags_channel =
+      pick_channel.empty() ? std::string() : " --channel " + shell_word(pick_channel);
+  text += fmt::format("time of {}{}:\n", pick, pick_channel.empty() ? "" : " on " + pick_channel);
+  const Timing timing = describe_times(pick_times, log.start_time_epoch_s);
   text += timing.text;
-  return text + suggestion(path, " --dbc " + shell_word(options.dbc) + " --signal " +
-                                     shell_word(pick) + timing_flags(timing));
+  return text + suggestion(path, " --dbc " + shell_word(options.dbc) + flags_channel +
+                                     " --signal " + shell_word(pick) + timing_flags(timing));
 }
 
 std::string inspect_mat(const std::string& path) {
@@ -280,8 +329,21 @@ std::string inspect_mat(const std::string& path) {
 
 std::string inspect_recording(const std::string& path, const RecordingOptions& options) {
   const std::string extension = lower(path.substr(path.find_last_of('.') + 1));
+  // Only a CAN log has buses: on another file --channel would be read over unnoticed, so it is
+  // refused there, naming the option.
+  if (!options.channel.empty() && extension == "mat") {
+    throw UsageError("--channel " + options.channel + ": " + path +
+                     " is a .mat recording; only a CAN log has channels");
+  }
   if (extension == "mat") return inspect_mat(path);
-  if (!options.dbc.empty()) return inspect_can(path, options);
+  if (!options.channel.empty()) {
+    try {
+      (void)detect_can_log_format(path);
+    } catch (const HostError& error) {
+      throw HostError("--channel " + options.channel + ": " + error.what());
+    }
+  }
+  if (!options.dbc.empty() || !options.channel.empty()) return inspect_can(path, options);
   try {
     return inspect_text(path, options);
   } catch (const HostError&) {

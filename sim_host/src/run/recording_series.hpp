@@ -19,7 +19,10 @@ struct RawSeries {
   std::vector<std::size_t> lines;   // text: the file's line of each sample (messages name it)
   std::vector<std::size_t> frames;  // CAN log: each sample's frame (SignalSeries::frames)
   bool frame_lines = false;         // frames are lines of a text log, not places in a BLF
-  std::vector<double> f_a_n;        // text: a column f_a (actuator force, N), when there is one
+  // The clock's reading at t = 0 when the times are offsets from a larger one (a BLF's start
+  // time since the epoch), else 0: their rounding is that of the clock (steps_uniform).
+  double time_origin_s = 0.0;
+  std::vector<double> f_a_n;  // text: a column f_a (actuator force, N), when there is one
 };
 
 // A text table's time column: --time NAME, else the first column named t or time or in s or ms;
@@ -37,7 +40,11 @@ double median_step(const std::vector<double>& t);
 // alone is biased where times are quantized, as candump's seconds since the epoch are in a
 // double (steps of 0.002 s come out as 8388 or 8389 ulps of 2.4e-7 s); the mean is not.
 double nominal_step(const std::vector<double>& t);
-// Samples in runs of at least 3 equal values at the minimum or maximum (full scale).
+// Samples in runs of at least 3 equal values at the minimum or maximum (full scale) that the
+// signal ran into: its slope on each side of the run, measured over two quanta of its resolution
+// (the smallest change between samples), would have carried it more than 4 quanta past the
+// run's level by the run's middle. A quantized signal's smooth peak, which dwells at its top
+// level, is no clipping.
 std::size_t clipped_samples(const std::vector<double>& values);
 
 // Checks the times, finds gaps and jitter, converts the unit, and puts every segment on the

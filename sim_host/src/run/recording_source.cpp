@@ -118,7 +118,7 @@ RawSeries read_can_series(const std::string& path, const RecordingOptions& optio
   }
   const Dbc dbc = read_dbc(options.dbc);
   const CanLog log = read_can_log(path);
-  SignalSeries series = extract_signal(log, path, dbc, options.signal);
+  SignalSeries series = extract_signal(log, path, dbc, options.signal, options.channel);
   RawSeries raw;
   raw.t_s = std::move(series.t_s);
   raw.values = std::move(series.values);
@@ -126,6 +126,7 @@ RawSeries read_can_series(const std::string& path, const RecordingOptions& optio
   raw.frames_too_short = series.frames_too_short;
   raw.frames = std::move(series.frames);
   raw.frame_lines = series.frame_lines;
+  raw.time_origin_s = log.start_time_epoch_s;
   raw.source = fmt::format("{} {}", format_name(log.format), series.name);
   return raw;
 }
@@ -175,8 +176,8 @@ const TextChannel* text_time_column(const std::string& path, const DelimitedTabl
 }
 
 bool RecordingOptions::defaults() const noexcept {
-  return signal.empty() && dbc.empty() && time.empty() && !(rate_hz > 0) && unit.empty() &&
-         gaps == GapPolicy::refuse && !(dt_s > 0);
+  return signal.empty() && dbc.empty() && channel.empty() && time.empty() && !(rate_hz > 0) &&
+         unit.empty() && gaps == GapPolicy::refuse && !(dt_s > 0);
 }
 
 bool RecordingReport::acted() const noexcept {
@@ -198,6 +199,10 @@ RawSeries read_raw_series(const std::string& path, const RecordingOptions& optio
 LoadedRecording read_recording(const std::string& path, const RecordingOptions& options) {
   if (options.rate_hz > 0 && !options.time.empty())
     throw UsageError("--time and --rate: give one of them");
+  if (!options.channel.empty() && options.dbc.empty()) {
+    throw UsageError("--channel " + options.channel +
+                     ": picks the bus of a CAN log read with --dbc; give --dbc FILE too");
+  }
   if (!options.unit.empty()) {
     double factor = 0;
     if (!unit_factor(options.quantity, options.unit, factor)) {

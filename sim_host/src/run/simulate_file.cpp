@@ -50,13 +50,18 @@ const char* option_for(const std::string& parameter) {
   return nullptr;
 }
 
-// "--mass: mass_kg: must be >= 1e-06 ..." or, for the step, "IN.csv: dt_s: ..." (dt comes from t).
+// "--mass: mass_kg: must be >= 1e-06 ..." or, for the step, "IN.csv: ... dt_s: ..." (dt comes
+// from t) or "--dt 2: ..." (the model's step given on the command line).
 // The core's refusal as the user's mistake: the file's time step is bad data (status 1); a
 // parameter the command line gave is a command-line error (status 2), one from a scene file data.
 [[noreturn]] void throw_configuration_error(const std::string& core_message,
                                             const std::string& input_path, double dt_s,
-                                            bool from_scene) {
+                                            bool dt_given, bool from_scene) {
   const std::string parameter = core_message.substr(0, core_message.find(':'));
+  if (parameter == "dt_s" && dt_given) {
+    throw UsageError(
+        fmt::format("--dt {}: the model's step does not suit this model: {}", dt_s, core_message));
+  }
   if (parameter == "dt_s") {
     throw HostError(
         fmt::format("{}: the time step of the file (dt = {} s) does not suit this model: {}",
@@ -98,7 +103,7 @@ SimulationSummary run_and_write(const SimulateRequest& request, const Simulation
     summary = simulate_signal(setup, a_u, trace);
   } catch (const ConfigurationError& error) {
     throw_configuration_error(error.what(), request.input_path, setup.params.dt_s,
-                              !request.scene_path.empty());
+                              request.recording.dt_s > 0, !request.scene_path.empty());
   }
   add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
   report(request, "writing " + request.output_path);
@@ -147,7 +152,7 @@ SimulationSummary run_in_scalar(const SimulateRequest& request, const Simulation
       add_ride_comfort(summary, signal.a_u_m_per_s2, trace.a_x_m_per_s2, setup.params.dt_s);
     } catch (const ConfigurationError& error) {
       throw_configuration_error(error.what(), request.input_path, setup.params.dt_s,
-                                !request.scene_path.empty());
+                                request.recording.dt_s > 0, !request.scene_path.empty());
     }
     report(request, "writing " + request.output_path);
     write_trace(writer, signal, trace, header);

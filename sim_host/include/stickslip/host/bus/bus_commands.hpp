@@ -51,8 +51,9 @@ LogInterval choose_log_interval(const std::string& path, double log_interval_s, 
                                 bool dt_given);
 
 // A recording as simulate reads it (recording_source.hpp): one SeatInput frame per sample,
-// counter = n mod 2^16.
-BusRecording frames_from_csv(const std::string& path, const RecordingOptions& recording = {});
+// counter = n mod 2^16. `command` (replay, play, record) is named where --gaps split is refused.
+BusRecording frames_from_csv(const std::string& path, const RecordingOptions& recording = {},
+                             const char* command = "replay");
 // A rig recording (rig_recording.hpp: t, a_u, a_x[, x_r]) as the sensors and the floor would send
 // it to a node running the estimator: per sample a SeatSensors frame (a_x, and x_r or not
 // available), then the SeatInput frame; `saturated` counts samples with a clipped signal.
@@ -66,7 +67,7 @@ BusRecording frames_from_log(const std::string& path, double dt_s, bool dt_given
 // recording as simulate reads it.
 BusRecording read_bus_recording(const std::string& path, double log_dt_s,
                                 const RecordingOptions& recording = {}, bool dt_given = false,
-                                bool log_times = true);
+                                bool log_times = true, const char* command = "replay");
 
 // Microseconds since the Unix epoch now (CLOCK_REALTIME): where logs the tools write start.
 std::uint64_t realtime_now_us();

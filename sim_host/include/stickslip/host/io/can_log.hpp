@@ -36,7 +36,14 @@ struct CanLog {
   CanLogFormat format = CanLogFormat::kCandump;
   std::vector<LogFrame> frames;
   std::size_t skipped_events = 0;  // lines or objects that are not classic data frames
+  // The wall-clock time of t = 0 in seconds since the epoch where the log's header records it
+  // (BLF's start time), else 0. Not added to the times; it tells how large the clock was whose
+  // readings a writer subtracted (python-can's BLFWriter), which bounds their rounding.
+  double start_time_epoch_s = 0.0;
 };
+
+// The channels (LogFrame::channel) that carry data frames, sorted, each once.
+std::vector<std::string> log_channels(const CanLog& log);
 
 // The format of the file at `path`, from its first bytes and lines; the extension (.log, .asc,
 // .blf, .trc) decides only when the content does not. Throws HostError when neither does.

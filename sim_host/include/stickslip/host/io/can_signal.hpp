@@ -26,7 +26,14 @@ struct SignalSeries {
 
 // `selector` is "MESSAGE.SIGNAL" as the DBC names them. Throws HostError when the DBC has no
 // such signal, or the log (named `log_path` in the message) has no frame that carries it.
+// `channel` (the --channel option) keeps the frames of that bus only; a channel the log does not
+// have is a UsageError naming the log's channels. Without it, a message on more than one
+// channel is a UsageError naming them: two buses merged into one stream would be no signal.
 SignalSeries extract_signal(const CanLog& log, const std::string& log_path, const Dbc& dbc,
-                            std::string_view selector);
+                            std::string_view selector, std::string_view channel = {});
+
+// Throws UsageError "--channel NAME: FILE has no frame on that channel (its channels: ...)" when
+// `channel` (the --channel option) is given and no data frame of the log is on it.
+void require_channel(const CanLog& log, const std::string& log_path, std::string_view channel);
 
 }  // namespace stickslip::host

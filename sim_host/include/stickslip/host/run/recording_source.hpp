@@ -19,11 +19,12 @@ enum class GapPolicy { refuse, hold, split };
 enum class Quantity { acceleration, length };
 
 struct RecordingOptions {
-  std::string signal;  // text: column name or 1-based index; CAN log: MESSAGE.SIGNAL
-  std::string dbc;     // a CAN log's DBC; given: the file is read as a CAN log
-  std::string time;    // text: the time column (default: one called t or time, or unit s)
-  double rate_hz = 0;  // text without a time column: the sample rate (0: not given)
-  std::string unit;    // g | m/s^2 | mm/s^2, over the header's or the DBC's unit
+  std::string signal;   // text: column name or 1-based index; CAN log: MESSAGE.SIGNAL
+  std::string dbc;      // a CAN log's DBC; given: the file is read as a CAN log
+  std::string channel;  // a CAN log's bus (LogFrame::channel): only its frames are decoded
+  std::string time;     // text: the time column (default: one called t or time, or unit s)
+  double rate_hz = 0;   // text without a time column: the sample rate (0: not given)
+  std::string unit;     // g | m/s^2 | mm/s^2, over the header's or the DBC's unit
   GapPolicy gaps = GapPolicy::refuse;
   double dt_s = 0;  // the model's step (0: the recording's own, which must be uniform)
   Quantity quantity = Quantity::acceleration;
@@ -54,8 +55,10 @@ struct RecordingReport {
   double resampled_to_hz = 0;
   std::size_t gaps = 0;
   double first_gap_t_s = 0, first_gap_length_s = 0;
-  std::size_t held_samples = 0;     // --gaps hold: samples that repeat the last value before a gap
-  std::size_t clipped_samples = 0;  // in runs of >= 3 equal samples at the minimum or maximum
+  std::size_t held_samples = 0;  // --gaps hold: samples that repeat the last value before a gap
+  // In runs of >= 3 equal samples at the minimum or maximum that the signal ran into (not a
+  // quantized signal's smooth peak, recording_series.hpp)
+  std::size_t clipped_samples = 0;
   std::size_t segments = 1;
   std::size_t short_segment_samples = 0;  // --gaps split: samples of parts too short to run
   std::size_t frames_too_short = 0;       // CAN: frames of the message that cannot hold the signal

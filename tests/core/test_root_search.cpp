@@ -59,7 +59,8 @@ SearchTally search_roots(T slope_of_f) {
   };
   const PaddedPolynomial<T> slope = constant(slope_of_f);
   for (int n = 0; n < 4000; ++n) {
-    const T r = static_cast<T>(std::ldexp(0.5 + 0.5 * uniform(), -static_cast<int>(21 * uniform())));
+    const T r =
+        static_cast<T>(std::ldexp(0.5 + 0.5 * uniform(), -static_cast<int>(21 * uniform())));
     // The bracket: [0, 1], or from a point below r (or 0) to a point above it (or 1).
     const T lo = n % 3 == 0 ? T(0) : static_cast<T>(static_cast<double>(r) * uniform());
     const T hi = n % 3 == 1 ? T(1) : static_cast<T>(r + (T(1) - r) * static_cast<T>(uniform()));

@@ -557,7 +557,12 @@ TEST(CanLogTiming, A2kHzBlfTakenFromAClockSinceTheEpochIsUniform) {
   write_text(path, epoch_clock_blf(0.0));
   const CanLog log = host::read_can_log(path);
   DOUBLES_EQUAL(1.7e9, log.start_time_epoch_s, 1e-3);
-  const host::LoadedRecording loaded = host::read_recording(path, seat_input_options());
+  host::LoadedRecording loaded;
+  try {
+    loaded = host::read_recording(path, seat_input_options());
+  } catch (const host::HostError& error) {
+    FAIL(error.what());  // taken for jitter: "give --dt S"
+  }
   LONGS_EQUAL(1, loaded.segments.size());
   LONGS_EQUAL(2000, loaded.segments.front().a_u_m_per_s2.size());
   LONGS_EQUAL(0, loaded.report.regridded_samples);

@@ -6,10 +6,15 @@
 # over the loopback bus (`stickslip replay --outputs full`) for the same log: --scalar float for
 # the M4F, --scalar fixed32 for the M0+. The step records (the model's outputs, bit for bit) are
 # compared too.
-#   tools/qemu-compare.sh STICKSLIP REPLAY_DIR CROSS_ROOT WORK_DIR [CSV]
+#   tools/qemu-compare.sh [--seat reference|end-stops] STICKSLIP REPLAY_DIR CROSS_ROOT WORK_DIR [CSV]
+# --seat end-stops: the firmware built with the seat of docs/scenes/seat-with-end-stops.toml
+# (stickslip_firmware_qemu_end_stops.elf, STICKSLIP_FIRMWARE_END_STOPS) against the host node
+# running that scene (`--scene`); the host run must reach the stops, or the check fails.
 # STICKSLIP: the host `stickslip` command; REPLAY_DIR: holds stickslip_node_replay_fixed and
-# _float (host build); CROSS_ROOT: holds cortex-m0plus/ and cortex-m4f/ build trees; CSV: the
-# recording (default: 10 s of the lorry scene, generated). The candump log is
+# _float (host build; _end_stops for --seat end-stops); CROSS_ROOT: holds cortex-m0plus/ and
+# cortex-m4f/ build trees; CSV: the recording (default: 10 s of the lorry scene, generated, at
+# 0.35 m/s^2 RMS, or 5 m/s^2 for the seat with end stops, which then meets its stops about a dozen
+# times). The candump log is
 # `stickslip replay --output-log` of the CSV: its SeatInput frames (E2E fields) are fed to the
 # firmware, its host node's output frames are the reference. Prints, per target, the frames sent
 # and compared, the mismatching frames, whether the records are identical, and the instructions
@@ -19,23 +24,52 @@
 # reached (painted stack). Exit status 1 on any difference.
 set -euo pipefail
 
+source_dir=$(cd "$(dirname "$0")/.." && pwd)
+seat_kind=reference
+if [ "${1:-}" = "--seat" ]; then
+  seat_kind=${2:-}
+  shift 2 || true
+fi
+case $seat_kind in
+  reference) variant="" rms=0.35 ;;
+  end-stops) variant=_end_stops rms=5 ;;
+  *) echo "qemu-compare: --seat takes reference or end-stops, got '$seat_kind'" >&2; exit 2 ;;
+esac
 stickslip=$(realpath "$1") replay_dir=$(realpath "$2") cross_root=$(realpath "$3") work=$4
 csv=${5:-}
 mkdir -p "$work"
 work=$(realpath "$work")
 if [ -z "$csv" ]; then
   csv=$work/recording.csv
-  "$stickslip" generate --kind lorry --rms 0.35 --duration 10 --dt 0.001 --seed 1 --output "$csv" >/dev/null
+  "$stickslip" generate --kind lorry --rms $rms --duration 10 --dt 0.001 --seed 1 --output "$csv" >/dev/null
 fi
 # The firmware's seat and node (port/baremetal/src/node.cpp) as the host `ecu` node runs them:
 # float with the observer (the M4F build), Q7.24 with its window over its words (the M0+ build).
-seat=(--model stick-slip --ffk 45 --ffs 45 --integrator exact --input-range 32.768
-  --displacement-range 0.1)
+# With end stops, the scene's seat (node.cpp states the same parameters).
+if [ "$seat_kind" = end-stops ]; then
+  seat=(--scene "$source_dir/docs/scenes/seat-with-end-stops.toml" --integrator exact
+    --input-range 32.768 --displacement-range 0.1)
+else
+  seat=(--model stick-slip --ffk 45 --ffs 45 --integrator exact --input-range 32.768
+    --displacement-range 0.1)
+fi
 "$stickslip" replay --input "$csv" --bus loopback --output "$work/ecu.csv" \
   --output-log "$work/input.log" "${seat[@]}" --scalar float --outputs full >"$work/ecu.json"
 "$stickslip" replay --input "$csv" --bus loopback --output "$work/ecu-fixed32.csv" \
   --output-log "$work/input-fixed32.log" "${seat[@]}" --scalar fixed32 --outputs full \
   >"$work/ecu-fixed32.json"
+
+if [ "$seat_kind" = end-stops ]; then
+  contacts=()
+  for json in "$work/ecu.json" "$work/ecu-fixed32.json"; do
+    contacts+=("$(tail -n 1 "$json" | python3 -c 'import json, sys; print(json.load(sys.stdin)["end_stop_contacts"])')")
+    if ! [ "${contacts[-1]}" -gt 0 ]; then
+      echo "qemu-compare: $json: the seat never met its end stops; the check would prove nothing" >&2
+      exit 1
+    fi
+  done
+  echo "end_stop_contacts float=${contacts[0]} fixed=${contacts[1]}"
+fi
 
 # candump lines "(time) iface ID#DATA" -> 16-byte frame records (port/baremetal/src/replay.hpp):
 # every frame to feed the node, and the ecu node's own output frames to compare with.
@@ -74,8 +108,8 @@ run_target() {  # preset machine scalar
   cp "$work/stickslip-input.bin" "$dir/"
   (cd "$dir" && timeout 600 qemu-system-arm -M "$machine" -nographic -monitor none -serial none \
       -semihosting-config enable=on,target=native -icount shift=0 \
-      -kernel "$cross_root/$preset/port/baremetal/stickslip_firmware_qemu.elf") >"$dir/qemu.txt" 2>&1
-  "$replay_dir/stickslip_node_replay_$scalar" "$dir/stickslip-input.bin" "$dir/host-frames.bin" \
+      -kernel "$cross_root/$preset/port/baremetal/stickslip_firmware_qemu$variant.elf") >"$dir/qemu.txt" 2>&1
+  "$replay_dir/stickslip_node_replay_$scalar$variant" "$dir/stickslip-input.bin" "$dir/host-frames.bin" \
     "$dir/host-records.bin"
   local frames sent mismatched records mean max stack against_ecu=""
   frames=$(awk '$1 == "frames" {print $2}' "$dir/qemu.txt")
@@ -112,7 +146,7 @@ PY
     against_ecu=" frames_against_ecu_loopback=DIFFERENT"
     status=1
   fi
-  echo "$preset $machine $scalar frames=$frames frames_sent=$sent frames_mismatched=$mismatched frames_verdict=$frames_verdict records=$records$against_ecu instructions_per_frame_mean=$mean instructions_per_frame_p50=$p50 instructions_per_frame_p99=$p99 instructions_per_frame_p999=$p999 instructions_per_frame_max=$max worst_frame_index=$worst_frame callback_stack_bytes=$stack"
+  echo "$preset$variant $machine $scalar frames=$frames frames_sent=$sent frames_mismatched=$mismatched frames_verdict=$frames_verdict records=$records$against_ecu instructions_per_frame_mean=$mean instructions_per_frame_p50=$p50 instructions_per_frame_p99=$p99 instructions_per_frame_p999=$p999 instructions_per_frame_max=$max worst_frame_index=$worst_frame callback_stack_bytes=$stack"
 }
 run_target cortex-m0plus mps2-an385 fixed
 run_target cortex-m4f mps2-an386 float

@@ -1,29 +1,49 @@
 #include "node.hpp"
 
 #include <cstring>
+#include <type_traits>
 
 #include "board.hpp"
 #include "stickslip/can/ecu_node.hpp"
 #include "stickslip/can/node_seats.hpp"
 #include "stickslip/core/fixed_point32.hpp"
+#include "stickslip/models/end_stops.hpp"
+#include "stickslip/models/scaled_end_stops.hpp"
 
 namespace {
 
+// STICKSLIP_FIRMWARE_END_STOPS: the seat of docs/scenes/seat-with-end-stops.toml, its stroke
+// limited by stiff, damped end stops (models/end_stops.hpp), as the host node runs that scene;
+// otherwise the reference seat without stops.
+#if defined(STICKSLIP_FIRMWARE_END_STOPS)
+constexpr bool kEndStops = true;
+#else
+constexpr bool kEndStops = false;
+#endif
+
 #if defined(STICKSLIP_FIRMWARE_FIXED)
-// Cortex-M0+ (no FPU, 32-bit multiply only): Q7.24 in scene units (models/scaled_oscillator.hpp).
+// Cortex-M0+ (no FPU, 32-bit multiply only): Q7.24 in scene units (models/scaled_oscillator.hpp,
+// models/scaled_end_stops.hpp).
 using Scalar = stickslip::Fixed32;
-using Seat = stickslip::can::ScaledSeat<Scalar, stickslip::CoulombStickSlip>;
-const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const Seat& s) {
+using Seat =
+    std::conditional_t<kEndStops,
+                       stickslip::can::ScaledSeat<
+                           Scalar, stickslip::CoulombStickSlip,
+                           stickslip::ScaledEndStopOscillator<Scalar, stickslip::CoulombStickSlip>>,
+                       stickslip::can::ScaledSeat<Scalar, stickslip::CoulombStickSlip>>;
+template <typename S>
+const auto& model_of(const S& s) {
   return s.model().oscillator();
 }
 // Its statistics: the block window over its own words (can/word_window.hpp), in integers, one
 // division or square root per sample in the samples after a block completes.
 #else
 using Scalar = float;  // Cortex-M4F: single-precision FPU
-// The observer, as the host node runs it: its estimate is the oscillator's step, and its window
+// The observer, as the host node runs it: its estimate is the model's step, and its window
 // gives SeatStats and SeatScene (T_ax, p, K; figured in float once per block).
-using Seat = stickslip::can::ObserverSeat<Scalar, stickslip::CoulombStickSlip>;
-const stickslip::Oscillator<Scalar, stickslip::CoulombStickSlip>& model_of(const Seat& s) {
+using Seat = stickslip::can::ObserverSeat<Scalar, stickslip::CoulombStickSlip, kEndStops>;
+template <typename S>
+const auto& model_of(const S& s) {
   return s.oscillator();
 }
 #endif
@@ -71,7 +91,7 @@ struct BoardSink {
 }  // namespace
 
 extern "C" int stickslip_node_start() {
-  stickslip::OscillatorParams params;  // the reference seat
+  stickslip::OscillatorParams params;  // the reference seat (with end stops: the scene's friction)
   params.model = stickslip::FrictionModel::stick_slip;
   params.kinetic_friction_n = params.static_friction_n = 45.0;
   params.dt_s = 1e-3;
@@ -80,16 +100,33 @@ extern "C" int stickslip_node_start() {
   // seat's stroke.
   params.input_range_m_per_s2 = 32.768;
   params.displacement_range_m = 0.1;
+  stickslip::EndStopParams stops;  // docs/scenes/seat-with-end-stops.toml
+  if (kEndStops) {
+    params.kinetic_friction_n = params.static_friction_n = 30.0;
+    stops.travel_m = 0.05;
+    stops.stiffness_n_per_m = 2.0e5;
+    stops.damping_ns_per_m = 2.0e3;
+  }
 #if defined(STICKSLIP_FIRMWARE_FIXED)
-  const stickslip::ConfigResult result = seat.configure(params);
+#if defined(STICKSLIP_FIRMWARE_END_STOPS)
+  const stickslip::ConfigResult result = seat.configure(params, stops);
 #else
-  const stickslip::ConfigResult result =
-      seat.configure(stickslip::can::seat_observer_params(params));
+  const stickslip::ConfigResult result = seat.configure(params);
+#endif
+#else
+  stickslip::ObserverParams observer = stickslip::can::seat_observer_params(params);
+  observer.stops = stops;
+  const stickslip::ConfigResult result = seat.configure(observer);
 #endif
   if (!result.ok()) return static_cast<int>(result.status);
+    // The seat with end stops has an event engine of its own (models/end_stops.hpp), whose bound
+    // port/baremetal/loop-bounds.json does not hold: that build is checked against the host, not
+    // bounded.
+#if !defined(STICKSLIP_FIRMWARE_END_STOPS)
   const stickslip::EventSearchPlan plan = model_of(seat).event_search();
   if (plan.tick_level > kSeatEventLevel || plan.taylor_order > kSeatTaylorOrder)
     return static_cast<int>(stickslip::Status::unsupported);
+#endif
   stickslip::can::EcuNodeParams node_params;
   node_params.outputs = kOutputs;
   return static_cast<int>(node.configure(node_params));

@@ -14,8 +14,10 @@
 
 extern "C" {
 // Configures the model (the reference seat, stick-slip, F_fk = F_fs = 45 N, dt = 1 ms, exact
-// integrator) and the node, and resets them. Returns 0, or the configure() Status as a number
-// (Status::unsupported: the seat needs a finer event search than the build's bound takes).
+// integrator; built with STICKSLIP_FIRMWARE_END_STOPS, the seat of
+// docs/scenes/seat-with-end-stops.toml) and the node, and resets them. Returns 0, or the
+// configure() Status as a number (Status::unsupported: the seat needs a finer event search than the
+// build's bound takes).
 int stickslip_node_start();
 // The seat's step for one sample (the node calls it; the step budget is measured from it).
 // Declared in node.cpp (its argument is the build's scalar).

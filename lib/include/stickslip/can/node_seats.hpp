@@ -6,7 +6,8 @@
 //                           running statistics (StatsWords says not available).
 //   ObserverSeat<T, Law>:   float or double: the observer (observer/observer.hpp), whose estimate
 //                           is the oscillator's step bit for bit, and its block window's T_ax, p
-//                           and K, as the host node publishes them (stats_words()).
+//                           and K, as the host node publishes them (stats_words()); with a third
+//                           parameter true, of the seat with end stops (ObserverParams::stops).
 //   ScaledSeat<T, Law>:     a 32-bit fixed-point scalar in scene units (models/
 //                           scaled_oscillator.hpp, the Cortex-M0+ build): one integer product and
 //                           a rounding shift per signal (CountScale), no float in the step; T_ax,
@@ -123,13 +124,14 @@ inline ObserverParams seat_observer_params(const OscillatorParams& model) noexce
   return params;
 }
 
-template <typename T, typename Law>
+// kEndStops: the observer of the seat with end stops (ObserverParams::stops).
+template <typename T, typename Law, bool kEndStops = false>
 class ObserverSeat {
  public:
   using Scalar = T;
   // Ride comfort is not published on the bus: the seat's observer has no comfort filters (the
   // window figures do not depend on them).
-  using Model = Observer<T, Law, kSeatWindowBlocks, false>;
+  using Model = Observer<T, Law, kSeatWindowBlocks, false, kEndStops>;
 
   // The observer's parameters (model.dt_s = the sample interval of the stream); the seat starts
   // at rest.
@@ -161,7 +163,7 @@ class ObserverSeat {
 
   const StepOutput<T>& last() const noexcept { return observer_.estimate().model; }
   const Model& observer() const noexcept { return observer_; }
-  const Oscillator<T, Law>& oscillator() const noexcept { return observer_.model(); }
+  const typename Model::Model& oscillator() const noexcept { return observer_.model(); }
 
  private:
   void note_window() noexcept {

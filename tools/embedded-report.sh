@@ -450,26 +450,20 @@ w("`tools/elf-wcet.py` derives these from the firmware's disassembly (the QEMU b
   "frame of the hardest set exceeds the bound after no gap (every frame of that set brings one "
   "sample: two frames sent per frame, checked), which would mean the analysis is wrong.")
 w("")
-w("The loops of the Cortex-M0+ step and node, their bounds and their longest turns (instructions):")
-w("")
-w("| function | loop | bound | longest turn | why |")
-w("|---|---|---|---|---|")
-for loop in wcet["cortex-m0plus"]["gap"]["loops"]:
-    if loop["function"].startswith(("memcpy", "memset")):
-        continue
-    w(f"| `{short_name(loop['function'])}` | {loop['header']} | {loop['bound']:,}"
-      f"{' per call' if loop.get('per_call') else ''} | {loop['turn']:,} | {loop.get('why', '')} |")
-w("")
-w("The loops of the Cortex-M4F step and node:")
-w("")
-w("| function | loop | bound | longest turn | why |")
-w("|---|---|---|---|---|")
-for loop in wcet["cortex-m4f"]["gap"]["loops"]:
-    if loop["function"].startswith(("memcpy", "memset")):
-        continue
-    w(f"| `{short_name(loop['function'])}` | {loop['header']} | {loop['bound']:,}"
-      f"{' per call' if loop.get('per_call') else ''} | {loop['turn']:,} | {loop.get('why', '')} |")
-w("")
+for preset, heading in (
+        ("cortex-m0plus", "The loops of the Cortex-M0+ step and node, their bounds and their "
+                          "longest turns (instructions):"),
+        ("cortex-m4f", "The loops of the Cortex-M4F step and node:")):
+    w(heading)
+    w("")
+    w("| function | loop | bound | longest turn | why |")
+    w("|---|---|---|---|---|")
+    for loop in wcet[preset]["gap"]["loops"]:
+        if loop["function"].startswith(("memcpy", "memset")):
+            continue
+        w(f"| `{short_name(loop['function'])}` | {loop['header']} | {loop['bound']:,}"
+          f"{' per call' if loop.get('per_call') else ''} | {loop['turn']:,} | {loop.get('why', '')} |")
+    w("")
 m4_frame = wcet["cortex-m4f"]["frame"]["instructions_bound"]
 m4_hard = int(hard.get("cortex-m4f", {}).get("instructions_per_frame_max", 0))
 m4_constants = wcet["cortex-m4f"]["frame"]["constants"]

@@ -59,7 +59,8 @@ for preset in cortex-m4f cortex-m0plus; do
   arm-none-eabi-nm -S -C "$elf" >"$work/$preset.nm"
   python3 tools/elf-callgraph.py "$elf" stickslip_seat_step stickslip_node_start stickslip_node_on_frame \
     >"$work/$preset.callgraph.json"
-  find "build/$preset" -name '*.su' -exec cat {} + >"$work/$preset.su"
+  # The plain firmware's objects (not the end-stop build's, whose functions share their names).
+  find "build/$preset" -name '*.su' -not -path '*end_stops*' -exec cat {} + >"$work/$preset.su"
   python3 tools/elf-callgraph.py "build/$preset/port/baremetal/stickslip_firmware_qemu_end_stops.elf" \
     stickslip_seat_step stickslip_node_on_frame >"$work/$preset.end-stops.callgraph.json"
 done

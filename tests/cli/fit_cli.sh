@@ -228,6 +228,10 @@ refuses 2 "--lower ffk=50 is not below --upper ffk=40" --input rig.csv --mass 88
 refuses 2 "--start ffk=60 lies outside its --lower/--upper bounds" --input rig.csv --mass 88.4 --start ffk=60 --upper ffk=40
 refuses 2 "--lower/--upper ffs: with ffk fitted too" --input rig.csv --mass 88.4 --upper ffs=50
 refuses 2 "--mass: must be a finite number > 0, got -3" --input rig.csv --mass -3
+# A mass the model cannot take: the refusal names the parameter and its range, not only "every
+# start value".
+refuses 1 "the model refuses every start value (at the automatic start: mass_kg: must be >= 1e-06 and <= 1e+09 kg, got 1e+12)" \
+  --input rig.csv --mass 1e12
 # An estimate held by its bound is reported as the bound, not as a minimum.
 "$stickslip" fit --input rig.csv --mass 88.4 --upper ffk=40 >bound.txt
 grep -q "^warning: ffk ended on its bound" bound.txt || fail "no bound warning: $(cat bound.txt)"
@@ -266,7 +270,21 @@ refuses 1 "column 'a_x' is in g but the fit needs m/s^2; multiply it by 9.80665"
 "$validation" --write-rig g_unnamed.csv --seed 11 --K 0.8 --duration 60 --ax-in-g
 refuses 1 "a_x looks like it is in g, not m/s^2" --input g_unnamed.csv --mass 88.4
 "$validation" --write-rig late.csv --seed 11 --K 0.8 --duration 60 --shift-samples 40
-refuses 1 "a_x is shifted by" --input late.csv --mass 88.4
+refuses 1 "a_x is shifted by 40 samples (40 ms, late) against a_u: where the seat sticks a_x equals a_u" \
+  --input late.csv --mass 88.4
+# A shift of 5 samples: the fitted model's best lag stays under 3 samples here (the fit bends its
+# parameters to the shift: k 8 % low, F_fs on F_fk), but the stuck phases show it, either way.
+"$validation" --write-rig late5.csv --seed 11 --K 0.8 --duration 60 --shift-samples 5
+refuses 1 "a_x is shifted by 5 samples (5 ms, late) against a_u" --input late5.csv --mass 88.4
+"$validation" --write-rig early.csv --seed 12 --K 1.5 --duration 30 --shift-samples -30
+refuses 1 "a_x is shifted by 30 samples (30 ms, early) against a_u" --input early.csv --mass 88.4
+# The wrong model on aligned channels is a misfit, reported as one, not a shift: the linear seat
+# on a stick-slip rig (its best lag against the measured a_x is 7 samples).
+"$validation" --write-rig aligned.csv --seed 11 --K 0.8 --duration 20
+"$stickslip" fit --input aligned.csv --mass 88.4 --model linear >linear.txt 2>linear_err.txt ||
+  fail "linear model on a stick-slip rig: $(cat linear_err.txt)"
+grep -q "the model does not fit this recording to its noise" linear.txt linear_err.txt ||
+  fail "linear model on a stick-slip rig: expected the misfit warning: $(cat linear.txt linear_err.txt)"
 refuses 2 "--fit mass: a_u, a_x and x_r fix only k/m, b/m and F/m" --input rig.csv --fit mass,stiffness
 refuses 2 "--fit: the linear model has no parameter ffk" --input rig.csv --mass 88.4 --model linear --fit stiffness,ffk
 refuses 2 "--mass: the seat's mass (kg) is needed" --input rig.csv

@@ -100,29 +100,29 @@ extern "C" int stickslip_node_start() {
   // seat's stroke.
   params.input_range_m_per_s2 = 32.768;
   params.displacement_range_m = 0.1;
-  stickslip::EndStopParams stops;  // docs/scenes/seat-with-end-stops.toml
-  if (kEndStops) {
-    params.kinetic_friction_n = params.static_friction_n = 30.0;
-    stops.travel_m = 0.05;
-    stops.stiffness_n_per_m = 2.0e5;
-    stops.damping_ns_per_m = 2.0e3;
-  }
-#if defined(STICKSLIP_FIRMWARE_FIXED)
 #if defined(STICKSLIP_FIRMWARE_END_STOPS)
-  const stickslip::ConfigResult result = seat.configure(params, stops);
-#else
-  const stickslip::ConfigResult result = seat.configure(params);
+  // docs/scenes/seat-with-end-stops.toml
+  params.kinetic_friction_n = params.static_friction_n = 30.0;
+  stickslip::EndStopParams stops;
+  stops.travel_m = 0.05;
+  stops.stiffness_n_per_m = 2.0e5;
+  stops.damping_ns_per_m = 2.0e3;
 #endif
+#if defined(STICKSLIP_FIRMWARE_FIXED) && defined(STICKSLIP_FIRMWARE_END_STOPS)
+  const stickslip::ConfigResult result = seat.configure(params, stops);
+#elif defined(STICKSLIP_FIRMWARE_FIXED)
+  const stickslip::ConfigResult result = seat.configure(params);
 #else
   stickslip::ObserverParams observer = stickslip::can::seat_observer_params(params);
+#if defined(STICKSLIP_FIRMWARE_END_STOPS)
   observer.stops = stops;
+#endif
   const stickslip::ConfigResult result = seat.configure(observer);
 #endif
   if (!result.ok()) return static_cast<int>(result.status);
-    // The seat with end stops has an event engine of its own (models/end_stops.hpp), whose bound
-    // port/baremetal/loop-bounds.json does not hold: that build is checked against the host, not
-    // bounded.
 #if !defined(STICKSLIP_FIRMWARE_END_STOPS)
+  // (The seat with end stops has an event engine of its own, models/end_stops.hpp, whose loops
+  // port/baremetal/loop-bounds.json does not bound: that build is checked against the host only.)
   const stickslip::EventSearchPlan plan = model_of(seat).event_search();
   if (plan.tick_level > kSeatEventLevel || plan.taylor_order > kSeatTaylorOrder)
     return static_cast<int>(stickslip::Status::unsupported);

@@ -445,15 +445,16 @@ void fill_result(FitResult& result, const Attempt& best, const FitCovariance& co
   result.solver_message = best.fit.message;
 }
 
+// aligned: check_stuck_alignment() found the channels aligned.
 void measure_model(FitResult& result, const Attempt& best, const RigRecording& rig,
-                   const RigInspection& data) {
+                   const RigInspection& data, bool aligned) {
   std::vector<double> residuals;
   FitBuffers buffers;
   SimulationSummary summary;
   if (!fit_residuals(best.problem, best.fit.u.data(), residuals, buffers, &summary))
     throw HostError(rig.path + ": the fitted parameters are refused by the model");
   // (a fit that did not converge reports that; its model says nothing about the channels)
-  if (best.fit.converged) check_alignment(rig, buffers.run.a_x_m_per_s2);
+  if (best.fit.converged && !aligned) check_model_alignment(rig, buffers.run.a_x_m_per_s2);
   const std::size_t samples = rig.a_x_m_per_s2.size();
   result.residual_m_per_s2.assign(residuals.begin(),
                                   residuals.begin() + static_cast<std::ptrdiff_t>(samples));
@@ -488,12 +489,17 @@ FitResult fit_seat(const RigRecording& rig, const FitRequest& request) {
   const auto begin = std::chrono::steady_clock::now();
   check_request(request);
   const RigInspection data = inspect_rig(rig);
+  const bool aligned = check_stuck_alignment(rig, data);
   const double mass = request.mass_kg;
   FitProblem problem = make_problem(rig, request, data);
   const std::array<double, kFitParameterCount> centre = spectral_start(request, data, mass);
   const std::vector<Candidate> candidates = scan_starts(problem, request, centre, data, mass);
-  if (!std::isfinite(candidates.front().cost))
-    throw HostError(rig.path + ": the model refuses every start value; give --start values");
+  if (!std::isfinite(candidates.front().cost)) {
+    const std::string why = fit_refusal(problem, set_scales(problem, centre).data());
+    throw HostError(rig.path + ": the model refuses every start value" +
+                    (why.empty() ? std::string() : " (at the automatic start: " + why + ")") +
+                    "; give --start values");
+  }
   Attempt best = solve_from_starts(problem, request, candidates, data, rig.a_x_m_per_s2.size());
   if (best.fit.converged) descend(best, request, fit_residual_count(best.problem));
   if (best.fit.converged) escape(best, request, rig.a_x_m_per_s2.size());
@@ -502,7 +508,7 @@ FitResult fit_seat(const RigRecording& rig, const FitRequest& request) {
   result.starts = static_cast<int>(candidates.size());
   const FitCovariance covariance = fit_covariance(best.problem, best.fit.u, best.box);
   fill_result(result, best, covariance);
-  measure_model(result, best, rig, data);
+  measure_model(result, best, rig, data, aligned);
   if (std::all_of(covariance.no_influence.begin(), covariance.no_influence.end(),
                   [](bool none) { return none; })) {
     throw HostError(rig.path + ": no fitted parameter changes the model's a_x on this recording" +

@@ -146,6 +146,22 @@ double fit_cost(const FitProblem& problem, const double* u, FitBuffers& buffers)
   return sum;
 }
 
+std::string fit_refusal(const FitProblem& problem, const double* u) {
+  SimulationSetup setup;
+  setup.params = fit_params(problem, u);
+  setup.repetitions = 1;
+  // configure() decides before the first step: two samples of the recording are enough.
+  const std::vector<double>& a_u = problem.rig->a_u_m_per_s2;
+  const std::vector<double> start(a_u.begin(), a_u.begin() + std::min<std::ptrdiff_t>(2, a_u.size()));
+  SimulationTrace<double> run;
+  try {
+    simulate_signal(setup, start, run);
+  } catch (const HostError& error) {
+    return error.what();
+  }
+  return {};
+}
+
 bool fit_jacobian(const FitProblem& problem, const double* u, const std::vector<double>& lower,
                   const std::vector<double>& upper, double step, const std::vector<double>& base,
                   std::vector<double>& jacobian, FitBuffers& buffers) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "stickslip/core/params.hpp"
@@ -54,6 +55,10 @@ bool fit_residuals(const FitProblem& problem, const double* u, std::vector<doubl
 
 // The sum of squared residuals at u; infinity if configure() refuses the parameters.
 double fit_cost(const FitProblem& problem, const double* u, FitBuffers& buffers);
+
+// Why configure() refuses the parameters at u (its message, naming the parameter); empty if it
+// accepts them.
+std::string fit_refusal(const FitProblem& problem, const double* u);
 
 // The Jacobian of fit_residuals at u, column-major (one column of residual_count per unknown), by
 // central differences with step `step` in u. Per sample, where the two one-sided differences

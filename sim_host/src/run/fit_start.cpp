@@ -40,9 +40,7 @@ double white_noise_rms(const std::vector<double>& signal) {
 // standard deviations of zero (the sensors' noise alone).
 void find_stuck_phases(const RigRecording& rig, RigInspection& out) {
   const std::size_t count = rig.a_u_m_per_s2.size();
-  const double noise = std::hypot(out.a_x_noise_m_per_s2, out.a_u_noise_m_per_s2);
-  const double threshold =
-      std::max(4.0 * noise / std::sqrt(static_cast<double>(kStuckFilterSamples)), 1e-9);
+  const double threshold = stuck_threshold_m_per_s2(out);
   out.stuck.assign(count, 0);
   double sum = 0.0;
   for (std::size_t n = 0; n < count; ++n) {
@@ -124,6 +122,11 @@ void check_units(const RigRecording& rig, const RigInspection& out) {
 }
 
 }  // namespace
+
+double stuck_threshold_m_per_s2(const RigInspection& data) {
+  const double noise = std::hypot(data.a_x_noise_m_per_s2, data.a_u_noise_m_per_s2);
+  return std::max(4.0 * noise / std::sqrt(static_cast<double>(kStuckFilterSamples)), 1e-9);
+}
 
 RigInspection inspect_rig(const RigRecording& rig) {
   RigInspection out;

@@ -28,6 +28,10 @@ inline constexpr std::size_t kStuckPhaseSamples = 20;
 // its kStuckFilterSamples-th sample, shorter ones not at all.
 inline constexpr std::size_t kStuckFilterSamples = 16;
 
+// The bound on |a_x - a_u| averaged over kStuckFilterSamples below which a sample counts as stuck:
+// 4 standard deviations of that average where the sensors' noise is all there is.
+double stuck_threshold_m_per_s2(const RigInspection& data);
+
 // Throws HostError "FILE: ..." when |a_x/a_u| below the natural frequency, where every seat
 // transmits the floor's motion (gain about 1), says one channel is in other units (g: 0.102 or
 // 9.8).

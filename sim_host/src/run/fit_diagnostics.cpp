@@ -82,10 +82,9 @@ bool is_a_shift(long lag, double dt_s) {
 }
 
 [[noreturn]] void refuse_shift(const RigRecording& rig, long lag, const std::string& why) {
-  throw HostError(fmt::format("{}: a_x is shifted by {} samples ({:.4g} ms, {}) against a_u: {}",
-                              rig.path, std::labs(lag),
-                              1e3 * std::fabs(static_cast<double>(lag) * rig.dt_s),
-                              lag > 0 ? "late" : "early", why));
+  throw HostError(fmt::format(
+      "{}: a_x is shifted by {} samples ({:.4g} ms, {}) against a_u: {}", rig.path, std::labs(lag),
+      1e3 * std::fabs(static_cast<double>(lag) * rig.dt_s), lag > 0 ? "late" : "early", why));
 }
 
 }  // namespace

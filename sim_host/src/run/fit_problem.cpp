@@ -152,7 +152,8 @@ std::string fit_refusal(const FitProblem& problem, const double* u) {
   setup.repetitions = 1;
   // configure() decides before the first step: two samples of the recording are enough.
   const std::vector<double>& a_u = problem.rig->a_u_m_per_s2;
-  const std::vector<double> start(a_u.begin(), a_u.begin() + std::min<std::ptrdiff_t>(2, a_u.size()));
+  const std::vector<double> start(a_u.begin(),
+                                  a_u.begin() + std::min<std::ptrdiff_t>(2, a_u.size()));
   SimulationTrace<double> run;
   try {
     simulate_signal(setup, start, run);

@@ -588,8 +588,8 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
       f"{q['instructions_per_frame_max']} | {step['code_bytes']} B | {step['stack_bytes']} B | "
       f"{whole['code_bytes']} B | {whole['stack_bytes']} B |")
 w("")
-w("`-DSTICKSLIP_FIRMWARE_END_STOPS=1` (the ELF `stickslip_firmware_qemu_end_stops.elf` of both "
-  "presets) builds the same node with the seat of `docs/scenes/seat-with-end-stops.toml`: "
+w("The compile definition `STICKSLIP_FIRMWARE_END_STOPS` (the ELF "
+  "`stickslip_firmware_qemu_end_stops.elf`, which both presets build) builds the same node with the seat of `docs/scenes/seat-with-end-stops.toml`: "
   "F_fk = F_fs = 30 N, stops at +-50 mm of 2e5 N/m and 2,000 N s/m, on the M0+ "
   "`ScaledEndStopOscillator<Fixed32, CoulombStickSlip>` (models/scaled_end_stops.hpp) and on the "
   "M4F the observer of `EndStopOscillator<float, CoulombStickSlip>` "

@@ -9,7 +9,8 @@
 #     step the ECU node calls, read from the disassembly by tools/elf-callgraph.py) within its
 #     budget: code <= 4096 B, deepest stack <= 256 B; the whole receive callback's figures
 #     (the node around the step) are printed too. A static measure of the ELF, not a timing: it cannot be noisy;
-#   - every loop of the receive interrupt of both firmware builds has a bound in
+#   - every loop of the receive interrupt of both firmware builds (and of their end-stop builds)
+#     has a bound in
 #     port/baremetal/loop-bounds.json (tools/elf-wcet.py fails on a loop without one, on control
 #     flow it cannot follow, and on a bound that no longer matches a loop), and the static bounds
 #     on the instructions of one step and of one frame are printed; the analysis is also checked
@@ -89,19 +90,23 @@ echo "check-embedded: cortex-m0plus receive callback (ECU node and step): $node_
 # Static bounds on the instructions of one step and of one received frame (the receive interrupt
 # of the QEMU board, the region tools/qemu-worst-case.sh measures): after no gap, and after the
 # longest gap the node holds (max_gap samples stepped in one frame).
-bound() {  # preset root [--set NAME=VALUE] -> instructions
-  python3 "$source_dir/tools/elf-wcet.py" "$build_root/$1/port/baremetal/stickslip_firmware_qemu.elf" "$2" \
-    --bounds "$source_dir/port/baremetal/loop-bounds.json" --target "$1" "${@:3}" |
+# The same for the firmware with the end-stop seat (stickslip_firmware_qemu_end_stops.elf).
+bound() {  # elf preset root [--set NAME=VALUE] -> instructions
+  python3 "$source_dir/tools/elf-wcet.py" "$build_root/$2/port/baremetal/$1" "$3" \
+    --bounds "$source_dir/port/baremetal/loop-bounds.json" --target "$2" "${@:4}" |
     python3 -c 'import json, sys; print(json.load(sys.stdin)["instructions_bound"])'
 }
-for preset in cortex-m0plus cortex-m4f; do
-  if step=$(bound "$preset" stickslip_seat_step) && frame=$(bound "$preset" CAN0_IRQHandler --set max_gap=0) &&
-    gap=$(bound "$preset" CAN0_IRQHandler); then
-    echo "check-embedded: $preset static bound: $step instructions per step, $frame per frame after no gap, $gap after the longest gap held"
-  else
-    echo "check-embedded: $preset: the static bound could not be derived (above)" >&2
-    status=1
-  fi
+for elf in stickslip_firmware_qemu.elf stickslip_firmware_qemu_end_stops.elf; do
+  for preset in cortex-m0plus cortex-m4f; do
+    if step=$(bound "$elf" "$preset" stickslip_seat_step) &&
+      frame=$(bound "$elf" "$preset" CAN0_IRQHandler --set max_gap=0) &&
+      gap=$(bound "$elf" "$preset" CAN0_IRQHandler); then
+      echo "check-embedded: $preset $elf static bound: $step instructions per step, $frame per frame after no gap, $gap after the longest gap held"
+    else
+      echo "check-embedded: $preset $elf: the static bound could not be derived (above)" >&2
+      status=1
+    fi
+  done
 done
 # The analysis refuses a loop without a bound rather than guessing one.
 if python3 "$source_dir/tools/elf-wcet.py" "$build_root/cortex-m0plus/port/baremetal/stickslip_firmware_qemu.elf" \

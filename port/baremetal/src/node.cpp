@@ -120,10 +120,13 @@ extern "C" int stickslip_node_start() {
   const stickslip::ConfigResult result = seat.configure(observer);
 #endif
   if (!result.ok()) return static_cast<int>(result.status);
-#if !defined(STICKSLIP_FIRMWARE_END_STOPS)
-  // (The seat with end stops has an event engine of its own, models/end_stops.hpp, whose loops
-  // port/baremetal/loop-bounds.json does not bound: that build is checked against the host only.)
   const stickslip::EventSearchPlan plan = model_of(seat).event_search();
+#if defined(STICKSLIP_FIRMWARE_END_STOPS)
+  // The seat with end stops scans its step on its engine's fixed grid (models/end_stops.hpp, whose
+  // trip counts port/baremetal/loop-bounds.json takes from its constants); the order of its
+  // Taylor polynomials is bounded as the plain seat's.
+  if (plan.taylor_order > kSeatTaylorOrder) return static_cast<int>(stickslip::Status::unsupported);
+#else
   if (plan.tick_level > kSeatEventLevel || plan.taylor_order > kSeatTaylorOrder)
     return static_cast<int>(stickslip::Status::unsupported);
 #endif

@@ -330,6 +330,14 @@ class EndStopOscillator {
   const StopContacts<T>& last_step_contacts() const noexcept { return contacts_last_; }
   bool stuck() const noexcept { return kSticking && direction_ == T(0); }
   std::uint64_t contacts() const noexcept { return contacts_; }
+  // The event search: ticks of dt / 2^kLevels (compile-time: 16, or one tick per step in Q7.24),
+  // inside a tick the Taylor polynomial of the larger order of the free and the contact mode (0
+  // where the scalar solves no Taylor polynomial). The trip counts of its coefficient and Horner
+  // loops follow from the order, so a build that bounds its step's work checks it
+  // (port/baremetal/src/node.cpp).
+  EventSearchPlan event_search() const noexcept {
+    return {kLevels, taylor_[0].order > taylor_[1].order ? taylor_[0].order : taylor_[1].order};
+  }
   std::uint64_t event_budget_exhausted() const noexcept { return counters_.event_budget_exhausted; }
   std::uint64_t rejected_inputs() const noexcept { return counters_.rejected_inputs; }
   std::uint64_t state_resets() const noexcept { return counters_.state_resets; }

@@ -235,6 +235,42 @@ TEST(EndStops, ConfigureNamesTheBadStopParameter) {
   CHECK_TRUE(r.status == Status::unsupported);
 }
 
+namespace {
+
+// The lowest order K >= 2 with (rate H)^(K+1)/(K+1)! <= eps/16 over a tick H = dt/2^16, with
+// rate = sqrt(k/m) + b/m: the truncation bound the engine's Taylor solve is chosen by.
+int expected_taylor_order(double stiffness, double damping, double mass) {
+  const double rate = (std::sqrt(stiffness / mass) + damping / mass) * kDt / 65536.0;
+  double term = rate;
+  for (int order = 1;; ++order) {
+    term *= rate / double(order + 1);
+    if (order >= 2 && term <= std::numeric_limits<double>::epsilon() / 16.0) return order;
+  }
+}
+
+}  // namespace
+
+// What a build that bounds the step's work checks (port/baremetal/src/node.cpp): the grid of 2^16
+// ticks, and the Taylor order of the stiffer mode, which is the contact's: 2 for the stops of the
+// scene, 3 for stops of 1e8 N/m, whose free stroke still takes 2.
+TEST(EndStops, EventSearchReportsTheTickGridAndTheContactModesTaylorOrder) {
+  const OscillatorParams p = seat(FrictionModel::stick_slip, 504.0, 45.0);
+  for (const double stop_stiffness : {2.0e5, 1.0e8}) {
+    EndStopParams s = stops();
+    s.stiffness_n_per_m = stop_stiffness;
+    EndStopOscillator<double, CoulombStickSlip> model;
+    CHECK_TRUE(model.configure(p, s).ok());
+    const EventSearchPlan plan = model.event_search();
+    CHECK_EQUAL(kEventLevels, plan.tick_level);
+    const int free = expected_taylor_order(p.stiffness_n_per_m, p.damping_ns_per_m, p.mass_kg);
+    const int contact = expected_taylor_order(p.stiffness_n_per_m + s.stiffness_n_per_m,
+                                              p.damping_ns_per_m + s.damping_ns_per_m, p.mass_kg);
+    CHECK_EQUAL(2, free);
+    CHECK_EQUAL(stop_stiffness > 1e6 ? 3 : 2, contact);
+    CHECK_EQUAL(contact, plan.taylor_order);
+  }
+}
+
 TEST(EndStops, StepUsesNoHeap) {
   const std::vector<double> a = harmonic(6.0, 1.5, 3001);
   static EndStopOscillator<double, CoulombStickSlip> model;

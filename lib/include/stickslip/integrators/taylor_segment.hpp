@@ -280,6 +280,17 @@ class TaylorSegment {
   T position(T u) const noexcept { return x_(u); }
   T velocity(T u) const noexcept { return v_(u); }
 
+  // The u in (lo, hi) at which x_r reaches `edge`, given s (x_r - edge) < 0 at lo (`at_lo`) and
+  // > 0 at hi (`at_hi`): falling_root() on -s (x_r - edge), so within its tolerance after at most
+  // kMaxRootIterations<T> iterations.
+  T edge_crossing(T edge, T s, T lo, T hi, T at_lo, T at_hi) const noexcept {
+    PaddedPolynomial<T> offset = x_;
+    offset.c[0] = x_.c[0] - edge;
+    const PaddedPolynomial<T> slope = x_.derivative();
+    const PaddedPolynomial<T> curvature = slope.derivative();
+    return falling_root(offset, slope, &curvature, -s, lo, hi, -at_lo, -at_hi).root;
+  }
+
   // The first u in (lo, hi] at which v_r d turns negative, given v_r(lo) d >= 0 (`at_lo`):
   // a sign change at hi, or a dip (v_r d falls, crosses zero and may rise again) inside.
   // Returns false if v_r d stays >= 0 on the whole interval.

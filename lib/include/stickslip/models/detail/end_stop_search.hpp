@@ -7,15 +7,15 @@
 // then bisection down to the tick whose end leaves the mode); inside that tick the mode's exact
 // motion is its Taylor polynomial (order chosen in configure() so that the truncation is below
 // the scalar's rounding), on which the boundary is solved for: v_r = 0 by TaylorSegment's
-// first_crossing (a dip to 0 and back included), x_r = +-travel by Newton kept inside its
-// bracket (slope H v_r). Break-away is solved for directly (F_L is linear in time). A position
-// inside the step is whole ticks plus a fraction of the next, so the step's end is reached
-// exactly.
+// first_crossing (a dip to 0 and back included), x_r = +-travel by TaylorSegment::edge_crossing
+// (the same root search, falling_root(), on x_r - travel). Break-away is solved for directly (F_L
+// is linear in time). A position inside the step is whole ticks plus a fraction of the next, so the
+// step's end is reached exactly.
 //
 // Loop bounds (the step's work): at most kMaxEventsPerStep events; per event one scan of at most
-// 16 blocks, one bisection of 12 levels, one Taylor tick (the Newton loops are capped at
-// kNewtonIterations and first_crossing at its own cap). Q7.24 (one tick per step): per event one
-// cubic polynomial, its v_r root search (kCubicRootNewtonSteps) and at most
+// 16 blocks, one bisection of 12 levels, one Taylor tick (its root searches run at most
+// kMaxRootIterations<T> iterations each, integrators/taylor_segment.hpp). Q7.24 (one tick per
+// step): per event one cubic polynomial, its v_r root search (kCubicRootNewtonSteps) and at most
 // kCubicStrokeNewtonSteps steps on the stroke boundary (3 at most in tests/host/
 // test_end_stop_fixed32.cpp and on 60 s of 30 m/s^2 white noise with 320 contacts).
 #pragma once
@@ -25,10 +25,6 @@
 namespace stickslip {
 
 namespace end_stop_detail {
-// Newton on the stroke boundary inside a tick: quadratic convergence from the secant; 48
-// safeguarded iterations are far more than a double ever needs (bisection alone halves the
-// bracket to below 2^-48 of a tick).
-inline constexpr int kNewtonIterations = 48;
 // The same in Q7.24 (one tick per step): Newton from the secant, each step doubling the digits,
 // with the bracket's midpoint where a step would leave it; 24 halvings alone reach the format's
 // last place of the step.
@@ -245,26 +241,8 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
     }
     const StrokeCrossing c = stroke_crossing(x, segment.position(end));
     if (c.leaves) {
-      const T edge = c.edge, s = c.s, f_lo = c.f_lo, f_hi = c.f_hi;
-      T lo = T(0), hi = end;
-      T u = f_lo < T(0) ? lo + (hi - lo) * S::proportion(-f_lo, f_hi - f_lo) : lo;
-      const T tolerance = T(4) * S::epsilon();
-      for (int i = 0; i < end_stop_detail::kNewtonIterations && f_lo < T(0); ++i) {
-        const T f = s * (segment.position(u) - edge);
-        if (f > T(0)) {
-          hi = u;
-        } else {
-          lo = u;
-        }
-        const T slope = s * segment.velocity(u) * tick_s_;
-        // Newton's step where it lands inside the bracket (x_r s rises: slope > 0), else bisection.
-        T next = slope > T(0) ? u - f / slope : lo;
-        if (!(next > lo && next < hi)) next = lo + (hi - lo) * T(0.5);
-        const T change = next > u ? next - u : u - next;
-        u = next;
-        if (change <= tolerance || hi - lo <= tolerance) break;
-      }
-      end = u;
+      // On the edge already at the tick's start (f_lo = 0): the boundary is here.
+      end = c.f_lo < T(0) ? segment.edge_crossing(c.edge, c.s, T(0), end, c.f_lo, c.f_hi) : T(0);
       found = Boundary::stroke;
     }
   }

@@ -15,9 +15,8 @@
 // Loop bounds (the step's work): at most kMaxEventsPerStep events; per event one scan of at most
 // 16 blocks, one bisection of 12 levels, one Taylor tick (its root searches run at most
 // kMaxRootIterations<T> iterations each, integrators/taylor_segment.hpp). Q7.24 (one tick per
-// step): per event one cubic polynomial, its v_r root search (kCubicRootNewtonSteps) and at most
-// kCubicStrokeNewtonSteps steps on the stroke boundary (3 at most in tests/host/
-// test_end_stop_fixed32.cpp and on 60 s of 30 m/s^2 white noise with 320 contacts).
+// step): per event one cubic polynomial, its v_r root search (kCubicRootNewtonSteps) and the
+// stroke boundary's (end_stop_detail::cubic_edge_root(): at most kCubicStrokeNewtonSteps + 25).
 #pragma once
 
 #include "stickslip/models/end_stops.hpp"
@@ -25,10 +24,57 @@
 namespace stickslip {
 
 namespace end_stop_detail {
-// The same in Q7.24 (one tick per step): Newton from the secant, each step doubling the digits,
-// with the bracket's midpoint where a step would leave it; 24 halvings alone reach the format's
-// last place of the step.
-inline constexpr int kCubicStrokeNewtonSteps = 24;
+// Q7.24 (one tick per step), x_r = +-travel on the cubic: Newton from the secant in the first
+// kCubicStrokeNewtonSteps iterations, each doubling the digits (3 iterations at most in
+// tests/host/test_end_stop_fixed32.cpp and on 60 s of 30 m/s^2 white noise with 320 contacts),
+// the bracket's midpoint after them and wherever a step would leave it.
+inline constexpr int kCubicStrokeNewtonSteps = 4;
+
+template <typename T>
+struct EdgeRoot {
+  T root;
+  int iterations;
+};
+
+// The u in (0, hi) at which f = s (x_r(u) - edge) rises through 0, given f(0) = f_lo < 0 <
+// f(hi) = f_hi, to one unit of the last place of f or of u. A midpoint halves the bracket, which
+// is at most the step wide (2^F units of the last place, F = T::kFractionBits): after the Newton
+// iterations, F midpoints bring it to one unit, where the search stops at one of its ends, so the
+// loop runs at most kCubicStrokeNewtonSteps + F + 1 times (CTest CubicEdgeRoot.* reaches that).
+template <typename T>
+EdgeRoot<T> cubic_edge_root(const CubicSegment<T>& segment, T edge, T s, T hi, T f_lo,
+                            T f_hi) noexcept {
+  using S = ScalarTraits<T>;
+  constexpr int kMaxIterations = kCubicStrokeNewtonSteps + T::kFractionBits + 1;
+  T lo = T(0);
+  T u = hi * S::proportion(-f_lo, f_hi - f_lo);
+  int iteration = 0;
+  while (iteration < kMaxIterations) {
+    ++iteration;
+    const T f = s * (segment.position(u) - edge);
+    if (S::abs(f) <= S::epsilon()) break;
+    if (f > T(0)) {
+      hi = u;
+    } else {
+      lo = u;
+    }
+    if (hi - lo <= S::epsilon()) break;
+    T next = lo;
+    if (iteration <= kCubicStrokeNewtonSteps) {
+      // Newton's step where it lands inside the bracket (x_r s rises: slope > 0).
+      const T slope = s * segment.velocity(u);
+      const T size = S::abs(f);
+      if (slope > T(0) && size <= slope) {
+        const T change = S::proportion(size, slope);
+        next = f > T(0) ? u - change : u + change;
+      }
+    }
+    if (!(next > lo && next < hi)) next = lo + S::divide_by_power_of_two(hi - lo, 1);
+    if (next == u) break;
+    u = next;
+  }
+  return {u, iteration};
+}
 }  // namespace end_stop_detail
 
 template <typename T, typename Law>
@@ -282,31 +328,10 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
       }
       const StrokeCrossing c = stroke_crossing(x, segment.position(end));
       if (c.leaves) {
-        const T edge = c.edge, s = c.s, f_lo = c.f_lo, f_hi = c.f_hi;
-        T lo = T(0), hi = end;
-        T u = f_lo < T(0) ? hi * S::proportion(-f_lo, f_hi - f_lo) : lo;
-        for (int i = 0; i < end_stop_detail::kCubicStrokeNewtonSteps && f_lo < T(0); ++i) {
-          const T f = s * (segment.position(u) - edge);
-          if (S::abs(f) <= S::epsilon()) break;
-          if (f > T(0)) {
-            hi = u;
-          } else {
-            lo = u;
-          }
-          const T slope = s * segment.velocity(u);
-          const T size = S::abs(f);
-          // Newton's step where it lands inside the bracket (x_r s rises: slope > 0), else the
-          // bracket's midpoint.
-          T next = lo;
-          if (slope > T(0) && size <= slope) {
-            const T change = S::proportion(size, slope);
-            next = f > T(0) ? u - change : u + change;
-          }
-          if (!(next > lo && next < hi)) next = lo + S::divide_by_power_of_two(hi - lo, 1);
-          if (next == u) break;
-          u = next;
-        }
-        end = u;
+        // On the edge already at the step's start (f_lo = 0): the boundary is here.
+        end = c.f_lo < T(0)
+                  ? end_stop_detail::cubic_edge_root(segment, c.edge, c.s, end, c.f_lo, c.f_hi).root
+                  : T(0);
         found = Boundary::stroke;
       }
     }

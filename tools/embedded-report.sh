@@ -657,7 +657,7 @@ w("| build | function | loop | bound | longest turn | why |")
 w("|---|---|---|---|---|---|")
 for preset in ("cortex-m0plus", "cortex-m4f"):
     for loop in end_wcet[preset][0]["loops"]:
-        if "EndStopOscillator" not in loop["function"]:
+        if "EndStopOscillator" not in loop["function"] and "end_stop_detail" not in loop["function"]:
             continue
         w(f"| {preset} | `{short_name(loop['function'])}` | {loop['header']} | {loop['bound']:,} | "
           f"{loop['turn']:,} | {loop.get('why', '')} |")

@@ -93,8 +93,7 @@ echo "check-embedded: cortex-m0plus receive callback (ECU node and step): $node_
 # The same for the firmware with the end-stop seat (stickslip_firmware_qemu_end_stops.elf).
 bound() {  # elf preset root [--set NAME=VALUE] -> instructions
   python3 "$source_dir/tools/elf-wcet.py" "$build_root/$2/port/baremetal/$1" "$3" \
-    --bounds "$source_dir/port/baremetal/loop-bounds.json" --target "$2" "${@:4}" |
-    python3 -c 'import json, sys; print(json.load(sys.stdin)["instructions_bound"])'
+    --bounds "$source_dir/port/baremetal/loop-bounds.json" --target "$2" --bound-only "${@:4}"
 }
 for elf in stickslip_firmware_qemu.elf stickslip_firmware_qemu_end_stops.elf; do
   for preset in cortex-m0plus cortex-m4f; do

@@ -447,6 +447,8 @@ def main():
     parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                         help="take a constant as this value (e.g. max_gap=0: a frame after no gap)")
     parser.add_argument("--list-loops", action="store_true")
+    parser.add_argument("--bound-only", action="store_true",
+                        help="print the instructions bound alone, not the JSON report")
     args = parser.parse_args()
     info = read_elf(args.elf)
     by_name = {f["name"]: a for a, f in info.items()}
@@ -537,6 +539,9 @@ def main():
         for k, row in enumerate(table):
             if re.match(row["function"], entry["function"]) and row["header"] == entry["header"]:
                 entry["why"] = row.get("why", "")
+    if args.bound_only:
+        print(costs[by_name[args.root]])
+        return
     json.dump({"root": args.root, "instructions_bound": costs[by_name[args.root]],
                "constants": constants,
                "functions": {functions[a].name: costs[a] for a in order},

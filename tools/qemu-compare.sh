@@ -154,8 +154,8 @@ PY
     local bound
     bound=$(python3 "$source_dir/tools/elf-wcet.py" \
       "$cross_root/$preset/port/baremetal/stickslip_firmware_qemu$variant.elf" CAN0_IRQHandler \
-      --bounds "$source_dir/port/baremetal/loop-bounds.json" --target "$preset" --set max_gap=0 |
-      python3 -c 'import json, sys; print(json.load(sys.stdin)["instructions_bound"])') || bound=""
+      --bounds "$source_dir/port/baremetal/loop-bounds.json" --target "$preset" --set max_gap=0 \
+      --bound-only) || bound=""
     if [ -n "$bound" ] && [ -n "$max" ] && [ "$max" -le "$bound" ]; then
       bound_check=" bound=$bound within_bound=ok"
     else

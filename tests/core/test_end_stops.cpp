@@ -1,7 +1,9 @@
 // End stops: contact and release located inside the step, the motion against a fine-step
 // reference, energy bounded, stick-slip unchanged while the stops are out of reach.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -212,6 +214,59 @@ TEST(EndStops, StickSlipUnchangedOutOfReachAndStuckMeansAxEqualsAu) {
   CHECK_TRUE(with_stops.contacts() > 10);
   CHECK_TRUE(stuck_steps > 100);
   CHECK_EQUAL(0u, with_stops.event_budget_exhausted());
+}
+
+// The seat held at its break-away threshold, at a stop and in the free stroke, with F_fk = F_fs
+// (where the slip after a break-away starts with a_r = 0) and F_fk < F_fs: the floor is chosen
+// from the seat's own state so that F_L lands on +-F_fs with offsets down to 1e-6 m/s^2, in
+// phases of 0.5 s after a drive into either stop. Rounding must not turn the slip that follows a
+// break-away into a stick and a break-away again at once: float did so, every decision an event
+// without progress, up to the event budget (32) in 14 to 21 steps a minute. No step may exhaust
+// the budget, and none may hold more events than the double seat reaches on the same inputs (4).
+template <typename T>
+void hold_at_the_threshold(std::uint64_t seed, double kinetic_friction_n, int& most_events,
+                           std::uint64_t& exhausted) {
+  OscillatorParams p = seat(FrictionModel::stick_slip, 504.0, 30.0);
+  p.kinetic_friction_n = kinetic_friction_n;
+  EndStopOscillator<T, CoulombStickSlip> model;
+  CHECK_TRUE(model.configure(p, stops()).ok());
+  test::SplitMix64 random(seed);
+  const double w = 2.0 * kPi * 10.0;  // the drive: a critically damped approach at 10 Hz
+  for (long n = 0; n < 60000; ++n) {
+    const double x = static_cast<double>(model.x_r()), v = static_cast<double>(model.v_r());
+    const double holding =
+        -(p.stiffness_n_per_m * x + static_cast<double>(model.stop_force_n())) / p.mass_kg;
+    double a_u = 0.0;
+    if ((n / 500) % 3 == 0) {
+      const double side = (n / 1500) % 2 == 0 ? 1.0 : -1.0;
+      const double edge = side * (stops().travel_m + 0.002 * random.uniform(-1.0, 1.0));
+      a_u = w * w * (x - edge) + 2.0 * w * v + holding +
+            2.0 * p.static_friction_n / p.mass_kg * random.uniform(-1.0, 1.0);
+    } else {
+      const double side = (n / 7) % 2 == 0 ? 1.0 : -1.0;
+      a_u = holding - side * p.static_friction_n / p.mass_kg +
+            random.uniform(-1.0, 1.0) * std::pow(10.0, -6.0 * random.uniform(0.0, 1.0));
+    }
+    const StepOutput<T> out = model.step(static_cast<T>(std::round(a_u * 1024.0) / 1024.0));
+    most_events = std::max(most_events, static_cast<int>(out.events));
+  }
+  CHECK_TRUE(model.contacts() > 100);
+  exhausted += model.event_budget_exhausted();
+}
+
+TEST(EndStops, SeatHeldAtItsBreakAwayThresholdSpendsNoEventsOnRounding) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    for (double kinetic_friction_n : {30.0, 25.0}) {
+      int most_float = 0, most_double = 0;
+      std::uint64_t exhausted = 0;
+      hold_at_the_threshold<float>(seed, kinetic_friction_n, most_float, exhausted);
+      hold_at_the_threshold<double>(seed, kinetic_friction_n, most_double, exhausted);
+      CHECK_EQUAL(0u, exhausted);
+      test::note_margin("most events in a step at the threshold, float", most_float, 4.0);
+      CHECK_TRUE(most_float <= 4);
+      CHECK_TRUE(most_double <= 4);
+    }
+  }
 }
 
 TEST(EndStops, ConfigureNamesTheBadStopParameter) {

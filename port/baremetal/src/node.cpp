@@ -90,46 +90,49 @@ struct BoardSink {
 
 }  // namespace
 
+namespace {
+
+// The scene's seat on the static seat: the end stops only where this build's seat has them.
+template <typename S>
+stickslip::ConfigResult configure_seat(S& s, const stickslip::OscillatorParams& params,
+                                       const stickslip::EndStopParams& stops) {
+#if defined(STICKSLIP_FIRMWARE_FIXED)
+  if constexpr (kEndStops) {
+    return s.configure(params, stops);
+  } else {
+    return s.configure(params);
+  }
+#else
+  stickslip::ObserverParams observer = stickslip::can::seat_observer_params(params);
+  if constexpr (kEndStops) observer.stops = stops;
+  return s.configure(observer);
+#endif
+}
+
+}  // namespace
+
 extern "C" int stickslip_node_start() {
   stickslip::OscillatorParams params;  // the reference seat (with end stops: the scene's friction)
   params.model = stickslip::FrictionModel::stick_slip;
-  params.kinetic_friction_n = params.static_friction_n = 45.0;
+  params.kinetic_friction_n = params.static_friction_n = kEndStops ? 30.0 : 45.0;
   params.dt_s = 1e-3;
   params.integrator = stickslip::Integrator::exact;
   // The ranges the fixed-point scaling must hold: the SeatInput a_u signal (+-32 m/s^2), the
   // seat's stroke.
   params.input_range_m_per_s2 = 32.768;
   params.displacement_range_m = 0.1;
-#if defined(STICKSLIP_FIRMWARE_END_STOPS)
-  // docs/scenes/seat-with-end-stops.toml
-  params.kinetic_friction_n = params.static_friction_n = 30.0;
-  stickslip::EndStopParams stops;
+  stickslip::EndStopParams stops;  // docs/scenes/seat-with-end-stops.toml
   stops.travel_m = 0.05;
   stops.stiffness_n_per_m = 2.0e5;
   stops.damping_ns_per_m = 2.0e3;
-#endif
-#if defined(STICKSLIP_FIRMWARE_FIXED) && defined(STICKSLIP_FIRMWARE_END_STOPS)
-  const stickslip::ConfigResult result = seat.configure(params, stops);
-#elif defined(STICKSLIP_FIRMWARE_FIXED)
-  const stickslip::ConfigResult result = seat.configure(params);
-#else
-  stickslip::ObserverParams observer = stickslip::can::seat_observer_params(params);
-#if defined(STICKSLIP_FIRMWARE_END_STOPS)
-  observer.stops = stops;
-#endif
-  const stickslip::ConfigResult result = seat.configure(observer);
-#endif
+  const stickslip::ConfigResult result = configure_seat(seat, params, stops);
   if (!result.ok()) return static_cast<int>(result.status);
-  const stickslip::EventSearchPlan plan = model_of(seat).event_search();
-#if defined(STICKSLIP_FIRMWARE_END_STOPS)
   // The seat with end stops scans its step on its engine's fixed grid (models/end_stops.hpp, whose
-  // trip counts port/baremetal/loop-bounds.json takes from its constants); the order of its
-  // Taylor polynomials is bounded as the plain seat's.
-  if (plan.taylor_order > kSeatTaylorOrder) return static_cast<int>(stickslip::Status::unsupported);
-#else
-  if (plan.tick_level > kSeatEventLevel || plan.taylor_order > kSeatTaylorOrder)
+  // trip counts port/baremetal/loop-bounds.json takes from its constants), so only the plain
+  // seat's tick level is bounded here; the order of the Taylor polynomials is bounded for both.
+  const stickslip::EventSearchPlan plan = model_of(seat).event_search();
+  if (plan.taylor_order > kSeatTaylorOrder || (!kEndStops && plan.tick_level > kSeatEventLevel))
     return static_cast<int>(stickslip::Status::unsupported);
-#endif
   stickslip::can::EcuNodeParams node_params;
   node_params.outputs = kOutputs;
   return static_cast<int>(node.configure(node_params));

@@ -52,25 +52,22 @@ StuckLags stuck_lags(const RigRecording& rig, const RigInspection& data) {
   out.reach = std::min(static_cast<long>(std::lround(0.25 / rig.dt_s)), count / 4);
   out.counts.assign(static_cast<std::size_t>(2 * out.reach + 1), 0);
   const double threshold = stuck_threshold_m_per_s2(data);
-  const long width = static_cast<long>(kStuckFilterSamples);
+  std::vector<std::uint8_t> stuck;
   for (long lag = -out.reach; lag <= out.reach; ++lag) {
     const long first = std::max(0L, -lag), end = std::min(count, count - lag);
-    double sum = 0.0;
-    std::size_t stuck = 0, run = 0;
-    for (long n = first; n < end; ++n) {
-      sum += a_x[static_cast<std::size_t>(n + lag)] - a_u[static_cast<std::size_t>(n)];
-      if (n - first >= width)
-        sum -= a_x[static_cast<std::size_t>(n - width + lag)] -
-               a_u[static_cast<std::size_t>(n - width)];
-      if (n - first + 1 >= width && std::fabs(sum) / static_cast<double>(width) < threshold) {
+    mark_stuck(a_x.data() + first + lag, a_u.data() + first, static_cast<std::size_t>(end - first),
+               threshold, stuck);
+    std::size_t in_phases = 0, run = 0;
+    for (std::uint8_t flag : stuck) {
+      if (flag != 0) {
         ++run;
         continue;
       }
-      if (run >= kStuckPhaseSamples) stuck += run;
+      if (run >= kStuckPhaseSamples) in_phases += run;
       run = 0;
     }
-    if (run >= kStuckPhaseSamples) stuck += run;
-    out.counts[static_cast<std::size_t>(lag + out.reach)] = stuck;
+    if (run >= kStuckPhaseSamples) in_phases += run;
+    out.counts[static_cast<std::size_t>(lag + out.reach)] = in_phases;
   }
   return out;
 }

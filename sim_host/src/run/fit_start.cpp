@@ -36,20 +36,10 @@ double white_noise_rms(const std::vector<double>& signal) {
   return median(std::move(second)) / 0.6744897501960817 / std::sqrt(6.0);
 }
 
-// Stuck: the relative acceleration a_x - a_u, averaged over kStuckFilterSamples, within 4 of its
-// standard deviations of zero (the sensors' noise alone).
 void find_stuck_phases(const RigRecording& rig, RigInspection& out) {
   const std::size_t count = rig.a_u_m_per_s2.size();
-  const double threshold = stuck_threshold_m_per_s2(out);
-  out.stuck.assign(count, 0);
-  double sum = 0.0;
-  for (std::size_t n = 0; n < count; ++n) {
-    sum += rig.a_x_m_per_s2[n] - rig.a_u_m_per_s2[n];
-    if (n >= kStuckFilterSamples)
-      sum -= rig.a_x_m_per_s2[n - kStuckFilterSamples] - rig.a_u_m_per_s2[n - kStuckFilterSamples];
-    const std::size_t width = std::min(n + 1, kStuckFilterSamples);
-    if (std::fabs(sum) / static_cast<double>(width) < threshold) out.stuck[n] = 1;
-  }
+  mark_stuck(rig.a_x_m_per_s2.data(), rig.a_u_m_per_s2.data(), count, stuck_threshold_m_per_s2(out),
+             out.stuck);
   std::size_t stuck_samples = 0, start = 0;
   for (std::size_t n = 0; n <= count; ++n) {
     const bool stuck = n < count && out.stuck[n] != 0;
@@ -126,6 +116,19 @@ void check_units(const RigRecording& rig, const RigInspection& out) {
 double stuck_threshold_m_per_s2(const RigInspection& data) {
   const double noise = std::hypot(data.a_x_noise_m_per_s2, data.a_u_noise_m_per_s2);
   return std::max(4.0 * noise / std::sqrt(static_cast<double>(kStuckFilterSamples)), 1e-9);
+}
+
+void mark_stuck(const double* a_x, const double* a_u, std::size_t count, double threshold_m_per_s2,
+                std::vector<std::uint8_t>& stuck) {
+  stuck.assign(count, 0);
+  double sum = 0.0;
+  for (std::size_t n = 0; n < count; ++n) {
+    sum += a_x[n] - a_u[n];
+    if (n >= kStuckFilterSamples)
+      sum -= a_x[n - kStuckFilterSamples] - a_u[n - kStuckFilterSamples];
+    const std::size_t width = std::min(n + 1, kStuckFilterSamples);
+    if (std::fabs(sum) / static_cast<double>(width) < threshold_m_per_s2) stuck[n] = 1;
+  }
 }
 
 RigInspection inspect_rig(const RigRecording& rig) {

@@ -32,6 +32,12 @@ inline constexpr std::size_t kStuckFilterSamples = 16;
 // 4 standard deviations of that average where the sensors' noise is all there is.
 double stuck_threshold_m_per_s2(const RigInspection& data);
 
+// Marks stuck[n] = 1 where a_x[n] - a_u[n], averaged over the last kStuckFilterSamples samples
+// (fewer at the start), is within threshold of zero; stuck is resized to count. The one test of a
+// stuck sample, for the unshifted channels and for a_x moved against a_u alike.
+void mark_stuck(const double* a_x, const double* a_u, std::size_t count, double threshold_m_per_s2,
+                std::vector<std::uint8_t>& stuck);
+
 // Throws HostError "FILE: ..." when |a_x/a_u| below the natural frequency, where every seat
 // transmits the floor's motion (gain about 1), says one channel is in other units (g: 0.102 or
 // 9.8).

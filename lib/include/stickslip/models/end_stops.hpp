@@ -374,6 +374,23 @@ class EndStopOscillator {
   T stop_spring_force(T x) const noexcept {
     return contact_ == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(contact_));
   }
+  // The largest |F_L| the seat at rest counts as within F_fs: F_fs, and in floating point F_fs
+  // plus 8 ulp of F_L's terms, its rounding. At rest with |F_L| at F_fs to rounding (F_fk = F_fs
+  // and a floor that holds it there) the exact motion is a slip too slow for the scalar to see;
+  // a slip that rounding ends at once, decided again as a slip or a break-away because F_L
+  // rounded beyond F_fs, would spend an event per decision without progress (float: the whole
+  // event budget). The seat stays at rest instead, and breaks away once |F_L| rises beyond
+  // F_fs. Q7.24 (the cubic search) compares with F_fs itself.
+  T holding_limit_n(T x, T a_u) const noexcept {
+    if constexpr (kCubic) {
+      (void)x, (void)a_u;
+      return static_n_;
+    } else {
+      return static_n_ +
+             T(8) * S::epsilon() *
+                 (S::abs(mass_kg_ * a_u) + S::abs(stiffness_ * x) + S::abs(stop_spring_force(x)));
+    }
+  }
   // Lowest Taylor order (>= 2) whose remainder over one tick, (rate H)^(K+1)/(K+1)!, is below a
   // sixteenth of the scalar's epsilon; rate = omega0 + b/m bounds the growth of every derivative.
   static int taylor_order(double tick_s, double stiffness_over_mass,
@@ -502,9 +519,26 @@ class EndStopOscillator {
 
   // True when, at state (x, v), the current mode no longer holds.
   bool mode_ends(T x, T v) const noexcept {
-    if (contact_ == 0 ? region(x) != 0 : x * T(contact_) < travel_) return true;
+    if (stroke_ends(x)) return true;
     if constexpr (kSticking) return v * direction_ <= T(0);
     return false;
+  }
+  bool stroke_ends(T x) const noexcept {
+    return contact_ == 0 ? region(x) != 0 : x * T(contact_) < travel_;
+  }
+  // The rounding of v_r over `count` ticks from tick `at` started near rest: 8 ulp of the
+  // velocity change each acceleration term alone would make over them (spring, stop, friction,
+  // input). A slip that starts at rest with the seat balanced at the break-away limit (a_r ~ 0,
+  // F_fk = F_fs) ends a block with a v_r of either sign by rounding alone; taken as a stick, the
+  // seat would break away again at once (|F_L| is F_fs to rounding) and spend an event per tick
+  // with no progress (float: the whole event budget in such a step). A v_r within this rounding
+  // at both ends of a block is no event: it is 0 (Oscillator::rest_rounding_velocity(), the same
+  // rule). A genuine stick still shows once a_r exceeds the rounding of its terms.
+  T rest_rounding_velocity(T x, unsigned at, unsigned count, const Input& in) const noexcept {
+    const T terms =
+        inv_mass_ * (S::abs(stiffness_ * x) + S::abs(stop_spring_force(x)) + S::abs(slip_force())) +
+        S::abs(in.at(T(at) * tick_fraction_)) + S::abs(in.a0) + S::abs(in.a1);
+    return T(8) * S::epsilon() * T(count) * tick_s_ * terms;
   }
 
   // A place inside the step: whole ticks plus a fraction of the next one (so that the step's end

@@ -111,9 +111,10 @@ bool EndStopOscillator<T, Law>::break_away(const Input& in, Position& pos,
                                            T& stuck_fraction) noexcept {
   const T phi_now = phi(pos);
   const T f1 = limit_force(x_, in.a1);
-  const T f0 = limit_force(x_, in.at(phi_now));
+  const T a_now = in.at(phi_now);
+  const T f0 = limit_force(x_, a_now);
   v_ = T(0);
-  if (S::abs(f0) > static_n_) {
+  if (S::abs(f0) > holding_limit_n(x_, a_now)) {
     // Beyond F_fs already at pos: only at a step's start, where a change of the actuator force
     // makes F_L jump (elsewhere the seat stuck because F_L held there). It leaves at once.
     direction_ = f0 > T(0) ? T(-1) : T(1);
@@ -157,7 +158,15 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
     const unsigned next = (end / kScanBlock + 1) * kScanBlock;
     T xn = x, vn = v;
     advance(xn, vn, contact_, slip_force(), end, next - end, in);
-    if (detect && mode_ends(xn, vn)) {
+    // At rest to rounding over the block: no velocity event (Q7.24, one tick per step, clamps the
+    // start of a slip on its cubic instead: within_tick_cubic()).
+    bool resting = false;
+    if constexpr (kSticking && !kCubic) {
+      const T rounding = rest_rounding_velocity(x, end, next - end, in);
+      resting = S::abs(v) <= rounding && S::abs(vn) <= rounding;
+      if (resting) vn = T(0);
+    }
+    if (detect && (resting ? stroke_ends(xn) : mode_ends(xn, vn))) {
       const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
       Position at{lo, T(0)};
       Boundary found = within_tick(in, at, x, v, true);
@@ -407,9 +416,10 @@ void EndStopOscillator<T, Law>::enter_mode_at(const Input& in, const Position& p
     return;
   }
   if constexpr (kSticking) {
-    const T f = limit_force(x_, in.at(phi(pos)));
+    const T a_u = in.at(phi(pos));
+    const T f = limit_force(x_, a_u);
     v_ = T(0);
-    direction_ = S::abs(f) <= static_n_ ? T(0) : (f > T(0) ? T(-1) : T(1));
+    direction_ = S::abs(f) <= holding_limit_n(x_, a_u) ? T(0) : (f > T(0) ? T(-1) : T(1));
   }
 }
 

@@ -531,9 +531,10 @@ class EndStopOscillator {
   // input). A slip that starts at rest with the seat balanced at the break-away limit (a_r ~ 0,
   // F_fk = F_fs) ends a block with a v_r of either sign by rounding alone; taken as a stick, the
   // seat would break away again at once (|F_L| is F_fs to rounding) and spend an event per tick
-  // with no progress (float: the whole event budget in such a step). A v_r within this rounding
-  // at both ends of a block is no event: it is 0 (Oscillator::rest_rounding_velocity(), the same
-  // rule). A genuine stick still shows once a_r exceeds the rounding of its terms.
+  // with no progress (float: the whole event budget in such a step). A v_r at or against the
+  // slip's direction within this rounding, at the end of a block that started within it, is no
+  // event: it is 0 (Oscillator::rest_rounding_velocity() for the interpolating integrators). A
+  // genuine stick still shows once a_r exceeds the rounding of its terms.
   T rest_rounding_velocity(T x, unsigned at, unsigned count, const Input& in) const noexcept {
     const T terms =
         inv_mass_ * (S::abs(stiffness_ * x) + S::abs(stop_spring_force(x)) + S::abs(slip_force())) +

@@ -162,9 +162,11 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
     // start of a slip on its cubic instead: within_tick_cubic()).
     bool resting = false;
     if constexpr (kSticking && !kCubic) {
-      const T rounding = rest_rounding_velocity(x, end, next - end, in);
-      resting = S::abs(v) <= rounding && S::abs(vn) <= rounding;
-      if (resting) vn = T(0);
+      if (vn * direction_ <= T(0)) {  // only where v_r would end the mode
+        const T rounding = rest_rounding_velocity(x, end, next - end, in);
+        resting = S::abs(v) <= rounding && S::abs(vn) <= rounding;
+        if (resting) vn = T(0);
+      }
     }
     if (detect && (resting ? stroke_ends(xn) : mode_ends(xn, vn))) {
       const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);

@@ -627,7 +627,7 @@ end_worst, end_hard = worst_run("worst-end-stops", "_end_stops")
 end_contacts = end_stop_run("worst-end-stops").get("end_stop_contacts", {})
 w("On the hardest set for this seat, 600 s from `stickslip_node_hardest_input --end-stops` "
   f"({end_contacts.get('fixed', '?')} contacts in Q7.24, {end_contacts.get('float', '?')} in "
-  "float; the cycle of the plain seat's set with its second second driving the seat to a stop, "
+  "float; the plain seat's cycle of 4 s with its second 1 driving the seat to a stop, "
   "alternately either one, within +-2 mm of the stop's edge with a random force up to 2 F_fs; "
   "the threshold and the swings of the other seconds then start where it was left, at the "
   "stop, with the stop's force in the limit force):")

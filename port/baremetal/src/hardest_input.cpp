@@ -23,7 +23,6 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-
 #include <cstring>
 #include <type_traits>
 
@@ -60,8 +59,8 @@ struct HardestInput {
 };
 
 // a_u for sample n, from the seat's state.
-template <typename Input>
-double next_a_u(const Input& in, long n, bool end_stops, Xorshift& random) {
+template <typename Source>
+double next_a_u(const Source& in, long n, bool end_stops, Xorshift& random) {
   const stickslip::OscillatorParams& p = in.params;
   const long second = n / 1000;
   const double fs_per_kg = p.static_friction_n / p.mass_kg;
@@ -88,8 +87,8 @@ double next_a_u(const Input& in, long n, bool end_stops, Xorshift& random) {
   return holding - side * fs_per_kg + offset;
 }
 
-template <typename Input>
-int write(Input& in, bool end_stops, double seconds, std::FILE* out) {
+template <typename Source>
+int write(Source& in, bool end_stops, double seconds, std::FILE* out) {
   const auto samples = static_cast<long>(seconds / in.params.dt_s) + 1;
   Xorshift random;
   std::fprintf(out, "t,a_u\n");

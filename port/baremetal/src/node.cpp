@@ -88,10 +88,6 @@ struct BoardSink {
   void sampled(const stickslip::can::NodeSample& /*sample*/) { board_node_sampled(); }
 };
 
-}  // namespace
-
-namespace {
-
 // The scene's seat on the static seat: the end stops only where this build's seat has them.
 template <typename S>
 stickslip::ConfigResult configure_seat(S& s, const stickslip::OscillatorParams& params,

@@ -297,12 +297,22 @@ class TaylorSegment {
   bool first_crossing(T d, T lo, T hi, T at_lo, T& root) const noexcept {
     const T at_hi = d * v_(hi);
     if (at_hi < T(0)) {
-      if (!(at_lo > T(0))) {
-        root = lo;
-        return true;
-      }
       const PaddedPolynomial<T> a = v_.derivative();
       const PaddedPolynomial<T> jerk = a.derivative();
+      if (!(at_lo > T(0))) {
+        // At rest at lo (a slip that starts here): where it first moves in d (a d > 0 at lo)
+        // the crossing is the fall after its one maximum inside, not lo; else lo.
+        root = lo;
+        const T rising_lo = d * a(lo);
+        const T rising_hi = d * a(hi);
+        if (!(rising_lo > T(0) && rising_hi < T(0))) return true;
+        const T maximum = falling_root<T>(a, jerk, nullptr, d, lo, hi, rising_lo, rising_hi).root;
+        const T at_maximum = d * v_(maximum);
+        if (at_maximum > T(0)) {
+          root = falling_root(v_, a, &jerk, d, maximum, hi, at_maximum, at_hi).root;
+        }
+        return true;
+      }
       root = falling_root(v_, a, &jerk, d, lo, hi, at_lo, at_hi).root;
       return true;
     }

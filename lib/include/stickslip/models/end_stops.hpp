@@ -374,6 +374,11 @@ class EndStopOscillator {
   T stop_spring_force(T x) const noexcept {
     return contact_ == 0 ? T(0) : stop_stiffness_ * (x - travel_ * T(contact_));
   }
+  // In contact the maps form the stop's spring force as k_s x - k_s travel, two terms each far
+  // larger than their difference: their magnitudes, not the force, set the maps' rounding.
+  T stop_map_terms(T x) const noexcept {
+    return contact_ == 0 ? T(0) : stop_stiffness_ * (S::abs(x) + travel_);
+  }
   // The largest |F_L| the seat at rest counts as within F_fs: F_fs, and in floating point F_fs
   // plus 8 ulp of F_L's terms, its rounding. At rest with |F_L| at F_fs to rounding (F_fk = F_fs
   // and a floor that holds it there) the exact motion is a slip too slow for the scalar to see;
@@ -386,9 +391,8 @@ class EndStopOscillator {
       (void)x, (void)a_u;
       return static_n_;
     } else {
-      return static_n_ +
-             T(8) * S::epsilon() *
-                 (S::abs(mass_kg_ * a_u) + S::abs(stiffness_ * x) + S::abs(stop_spring_force(x)));
+      return static_n_ + T(8) * S::epsilon() *
+                             (S::abs(mass_kg_ * a_u) + S::abs(stiffness_ * x) + stop_map_terms(x));
     }
   }
   // Lowest Taylor order (>= 2) whose remainder over one tick, (rate H)^(K+1)/(K+1)!, is below a
@@ -537,7 +541,7 @@ class EndStopOscillator {
   // genuine stick still shows once a_r exceeds the rounding of its terms.
   T rest_rounding_velocity(T x, unsigned at, unsigned count, const Input& in) const noexcept {
     const T terms =
-        inv_mass_ * (S::abs(stiffness_ * x) + S::abs(stop_spring_force(x)) + S::abs(slip_force())) +
+        inv_mass_ * (S::abs(stiffness_ * x) + stop_map_terms(x) + S::abs(slip_force())) +
         S::abs(in.at(T(at) * tick_fraction_)) + S::abs(in.a0) + S::abs(in.a1);
     return T(8) * S::epsilon() * T(count) * tick_s_ * terms;
   }
@@ -566,6 +570,8 @@ class EndStopOscillator {
   template <typename Segment>
   static Boundary end_on_segment(const Segment& segment, Boundary found, T end, Position& pos, T& x,
                                  T& v) noexcept;
+  bool span_leaves_mode(const Input& in, T x, T v, unsigned at, unsigned count, T& xn, T& vn,
+                        bool rest_rule) const noexcept;
   unsigned first_tick_leaving_mode(const Input& in, unsigned lo, unsigned hi, T& x, T& v, T& x_hi,
                                    T& v_hi) const noexcept;
   void enter_mode_at(const Input& in, const Position& pos, Boundary boundary,

@@ -124,9 +124,12 @@ bool EndStopOscillator<T, Law>::break_away(const Input& in, Position& pos,
     stuck_fraction += T(1) - phi_now;
     return false;
   }
+  // F_L reaches the bound on f1's side; it may start at F_fs on that side already (held within
+  // the rounding of its terms: it leaves at once) or on the other (F_L falls through the band
+  // |F_L| <= F_fs before it breaks away).
   const T bound = f1 > T(0) ? static_n_ : -static_n_;
-  T ratio = T(0);  // |f0| < F_fs < |f1|: the denominator is not zero
-  if (S::abs(f0) < static_n_) {
+  T ratio = T(0);
+  if (f1 > T(0) ? f0 < bound : f0 > bound) {  // f0 short of the bound, f1 beyond: f1 != f0
     ratio = S::proportion(bound - f0, f1 - f0);
     ratio = ratio < T(0) ? T(0) : (ratio > T(1) ? T(1) : ratio);
   }
@@ -156,19 +159,8 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
   unsigned end = pos.tick;
   while (end < kTicks) {
     const unsigned next = (end / kScanBlock + 1) * kScanBlock;
-    T xn = x, vn = v;
-    advance(xn, vn, contact_, slip_force(), end, next - end, in);
-    // At rest to rounding over the block: no velocity event (Q7.24, one tick per step, clamps the
-    // start of a slip on its cubic instead: within_tick_cubic()).
-    bool resting = false;
-    if constexpr (kSticking && !kCubic) {
-      if (vn * direction_ <= T(0)) {  // only where v_r would end the mode
-        const T rounding = rest_rounding_velocity(x, end, next - end, in);
-        resting = S::abs(v) <= rounding && S::abs(vn) <= rounding;
-        if (resting) vn = T(0);
-      }
-    }
-    if (detect && (resting ? stroke_ends(xn) : mode_ends(xn, vn))) {
+    T xn, vn;
+    if (span_leaves_mode(in, x, v, end, next - end, xn, vn, true) && detect) {
       const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
       Position at{lo, T(0)};
       Boundary found = within_tick(in, at, x, v, true);
@@ -375,6 +367,33 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::end_on_s
   return found;
 }
 
+// Advances (x, v) at tick `at` by `count` ticks to (xn, vn); true where the mode has ended there.
+// Floating point, slipping: a span that starts and ends at rest to within the rounding of its
+// acceleration terms (rest_rounding_velocity()) ends at rest, vn = 0, with no velocity event; the
+// scan and its bisection judge a span by this one rule, so the bisection cannot settle on a tick
+// whose reversal of v_r is rounding where the scan's block saw a genuine one further on. Q7.24
+// (one tick per step) clamps the start of a slip on its cubic instead (within_tick_cubic()).
+// `rest_rule` false: the rule is known not to apply (a bisection of a block that did not start at
+// rest), and its rounding is not formed.
+template <typename T, typename Law>
+bool EndStopOscillator<T, Law>::span_leaves_mode(const Input& in, T x, T v, unsigned at,
+                                                 unsigned count, T& xn, T& vn,
+                                                 bool rest_rule) const noexcept {
+  xn = x;
+  vn = v;
+  advance(xn, vn, contact_, slip_force(), at, count, in);
+  if constexpr (kSticking && !kCubic) {
+    if (rest_rule && vn * direction_ <= T(0)) {  // only where v_r would end the mode
+      const T rounding = rest_rounding_velocity(x, at, count, in);
+      if (S::abs(v) <= rounding && S::abs(vn) <= rounding) {
+        vn = T(0);
+        return stroke_ends(xn);
+      }
+    }
+  }
+  return mode_ends(xn, vn);
+}
+
 // Bisects (lo, hi], where the state (x, v) at tick lo fits the mode and the one at hi (x_hi,
 // v_hi) does not, down to one tick; returns its start, with (x, v) advanced to it and (x_hi,
 // v_hi) the state the maps put at its end.
@@ -382,11 +401,16 @@ template <typename T, typename Law>
 unsigned EndStopOscillator<T, Law>::first_tick_leaving_mode(const Input& in, unsigned lo,
                                                             unsigned hi, T& x, T& v, T& x_hi,
                                                             T& v_hi) const noexcept {
+  // The rest rule applies where the block started at rest to within its rounding; a block that
+  // did not holds a genuine slip, whose halves are judged by the sign of v_r alone.
+  bool from_rest = false;
+  if constexpr (kSticking && !kCubic) {
+    from_rest = hi - lo > 1 && S::abs(v) <= rest_rounding_velocity(x, lo, hi - lo, in);
+  }
   while (hi - lo > 1) {
     const unsigned mid = lo + (hi - lo) / 2;
-    T xm = x, vm = v;
-    advance(xm, vm, contact_, slip_force(), lo, mid - lo, in);
-    if (mode_ends(xm, vm)) {
+    T xm, vm;
+    if (span_leaves_mode(in, x, v, lo, mid - lo, xm, vm, from_rest)) {
       hi = mid;
       x_hi = xm;
       v_hi = vm;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cfenv>
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 #include <limits>
 #include <vector>
@@ -455,4 +456,86 @@ TEST(StickSlip, FloatStribeckBreakAwayRaisesNoUnderflow) {
   CHECK_TEXT(underflows == 0, StringFromFormat("%d inputs underflow, first a1 = %.9g m/s^2",
                                                underflows, static_cast<double>(first))
                                   .asCharString());
+}
+
+namespace {
+
+// A seat held at its break-away threshold by a floor chosen from its own state: F_L on +-F_fs,
+// alternating every 7 samples, with offsets down to 1e-8 m/s^2, between seconds of jumps and
+// swings. Random seats (m 40-140 kg, k 3e3-3e4 N/m, b often 0, dt 1/2, 1 or 2 ms; F_fs up to
+// 1.5 F_fk, half of them F_fk = F_fs, where the slip after a break-away starts with a_r = 0).
+template <typename T, typename Law>
+void hold_random_seat_at_the_threshold(const OscillatorParams& p, std::uint64_t seed,
+                                       int& most_events, std::uint64_t& exhausted,
+                                       long& stuck_steps) {
+  Oscillator<T, Law> seat;
+  CHECK_TRUE(seat.configure(p).ok());
+  test::SplitMix64 random(seed);
+  const double m = p.mass_kg, f_fs = p.static_friction_n;
+  for (long n = 0; n < 6000; ++n) {
+    const double holding = -p.stiffness_n_per_m * static_cast<double>(seat.x_r()) / m;
+    double a_u = 0.0;
+    switch ((n / 300) % 3) {
+      case 0:
+        a_u = random.uniform(-30.0, 30.0);
+        break;
+      case 1: {
+        const double side = (n / 7) % 2 == 0 ? -1.0 : 1.0;
+        a_u = holding - side * f_fs / m +
+              random.uniform(-1.0, 1.0) * std::pow(10.0, random.uniform(-8.0, 0.0));
+        break;
+      }
+      default:
+        a_u = holding + random.uniform(1.5, 9.5) * f_fs / m * random.uniform(-1.0, 1.0);
+    }
+    const StepOutput<T> out = seat.step(static_cast<T>(a_u));
+    most_events = std::max(most_events, static_cast<int>(out.events));
+    if (out.stuck) ++stuck_steps;
+  }
+  exhausted += seat.event_budget_exhausted();
+}
+
+}  // namespace
+
+// At the threshold with F_fk = F_fs the exact motion is a slip too slow for the scalar to see.
+// Float decided it from F_L's rounding, as a reversal, and as a stick that broke away at once,
+// each an event a tick apart or less, until the budget ran out (Coulomb: 3, the exact solution's
+// bound; Stribeck: 32), in 72 of these 960,000 steps. Now a seat at rest counts |F_L| within its
+// rounding of F_fs as held, breaks away where F_L reaches F_fs on the far side of the band, and a
+// slip that stays at rest to rounding holds no event (holding_limit_n(), rest_rounding_velocity()).
+// No step may exhaust the budget, and none may hold more events than the exact solution can.
+TEST(StickSlip, RandomSeatsHeldAtTheBreakAwayThresholdNeverExhaustTheEventBudget) {
+  test::SplitMix64 random(21);
+  int most_events = 0;
+  std::uint64_t exhausted = 0;
+  long stuck_steps = 0;
+  for (int i = 0; i < 40; ++i) {
+    OscillatorParams p;
+    p.integrator = Integrator::exact;
+    p.mass_kg = random.uniform(40.0, 140.0);
+    p.stiffness_n_per_m = 3.0e3 * std::pow(10.0, random.uniform(0.0, 1.0));
+    p.damping_ns_per_m = random.uniform(0.0, 1.0) < 0.4 ? 0.0 : random.uniform(0.0, 1000.0);
+    const double rate = random.uniform(0.0, 3.0);
+    p.dt_s = rate < 1.0 ? 5e-4 : (rate < 2.0 ? 1e-3 : 2e-3);
+    p.kinetic_friction_n = random.uniform(5.0, 65.0);
+    p.static_friction_n =
+        p.kinetic_friction_n * (random.uniform(0.0, 1.0) < 0.5 ? 1.0 : random.uniform(1.0, 1.5));
+    p.stribeck_velocity_m_per_s = random.uniform(0.002, 0.032);
+    const std::uint64_t floor_seed = random.next();
+    p.model = FrictionModel::stick_slip;
+    hold_random_seat_at_the_threshold<float, CoulombStickSlip>(p, floor_seed, most_events,
+                                                               exhausted, stuck_steps);
+    hold_random_seat_at_the_threshold<double, CoulombStickSlip>(p, floor_seed, most_events,
+                                                                exhausted, stuck_steps);
+    p.model = FrictionModel::stribeck;
+    hold_random_seat_at_the_threshold<float, StribeckStickSlip>(p, floor_seed, most_events,
+                                                                exhausted, stuck_steps);
+    hold_random_seat_at_the_threshold<double, StribeckStickSlip>(p, floor_seed, most_events,
+                                                                 exhausted, stuck_steps);
+  }
+  CHECK_EQUAL(0u, exhausted);
+  CHECK_TRUE(most_events <= kMaxEventsOfTheExactSolutionPerStep);
+  CHECK_TRUE(stuck_steps > 15000);  // the threshold phases held the seats
+  test::note_margin("most events in a step at the threshold, random seats", most_events,
+                    double(kMaxEventsOfTheExactSolutionPerStep));
 }

@@ -537,7 +537,7 @@ class EndStopOscillator {
   // seat would break away again at once (|F_L| is F_fs to rounding) and spend an event per tick
   // with no progress (float: the whole event budget in such a step). A v_r at or against the
   // slip's direction within this rounding, at the end of a block that started within it, is no
-  // event: it is 0 (Oscillator::rest_rounding_velocity() for the interpolating integrators). A
+  // event: it is 0 (Oscillator::rest_rounding_velocity(), the plain seat's rule). A
   // genuine stick still shows once a_r exceeds the rounding of its terms.
   T rest_rounding_velocity(T x, unsigned at, unsigned count, const Input& in) const noexcept {
     const T terms =

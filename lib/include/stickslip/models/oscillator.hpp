@@ -428,6 +428,19 @@ class Oscillator {
   }
 
   T limit_force(T a_u, T x) const noexcept { return -(by_unit(mass_kg_, a_u) + stiffness_ * x); }
+  // The largest |F_L| a seat at rest counts as within F_fs: F_fs, and in floating point F_fs plus
+  // 8 ulp of F_L's terms, its rounding. With |F_L| at F_fs to rounding (F_fk = F_fs and a floor
+  // that holds it there) the exact motion is a slip too slow for the scalar to see; decided as a
+  // reversal because F_L rounded beyond F_fs, each decision was an event without progress (float:
+  // the whole event budget). Fixed point compares with F_fs itself.
+  T holding_limit_n(T a_u, T x) const noexcept {
+    if constexpr (S::kTaylorEventSearch) {
+      return friction_.static_n +
+             T(8) * S::epsilon() * (S::abs(mass_kg_ * a_u) + S::abs(stiffness_ * x));
+    } else {
+      return friction_.static_n;
+    }
+  }
 
   // dv_r/dt for a given friction force.
   T relative_acceleration(T x, T v, T force_n, T a_u) const noexcept {

@@ -94,13 +94,14 @@ inline int Oscillator<T, Law>::lowest_set_bit(unsigned value) noexcept {
 
 // The rounding of v_r over a block of `level` started near rest: 8 ulp of the velocity change
 // each acceleration term alone would make (spring, friction, input at both ends) over it.
-// Interpolating integrators: a block that starts at rest to rounding (a slip start, or a clamp)
-// with the seat balanced at the break-away limit (a_r ~ 0) ends with a v_r of either sign by
-// rounding alone, and linear interpolation would put an "event" near the block start, spending an
-// event per tick with no progress (float stick-slip and Stribeck scenes would exhaust their event
-// budget so). A crossing within that rounding is no event: v_r is clamped at 0 (also when it stays
-// positive: a speck of 1e-33 m/s would only feed denormal products, FE_UNDERFLOW in float). A
-// genuine stick still shows once a_r exceeds the rounding of its terms.
+// A block or tick that starts at rest to rounding (a slip start, or a clamp) with the seat
+// balanced at the break-away limit (a_r ~ 0) ends with a v_r of either sign by rounding alone,
+// and the search would put an "event" near its start (linear interpolation; on the Taylor
+// polynomial, at the start itself), spending an event per tick with no progress (float
+// stick-slip and Stribeck scenes would exhaust their event budget so). A crossing within that
+// rounding is no event: v_r is clamped at 0 (also when it stays positive: a speck of 1e-33 m/s
+// would only feed denormal products, FE_UNDERFLOW in float). A genuine stick still shows once a_r
+// exceeds the rounding of its terms.
 template <typename T, typename Law>
 inline T Oscillator<T, Law>::rest_rounding_velocity(int level, T x, T force_n, T a_u_start,
                                                     const Input& in) const noexcept {
@@ -166,6 +167,19 @@ inline bool Oscillator<T, Law>::finish_tick_taylor(Position& pos, T& x, T& v, T 
           if (pos.frac == T(0)) return false;
           starting = false;
           continue;
+        }
+      }
+      // At rest at lo and at the tick's end to within the rounding of the acceleration terms:
+      // no event, v_r clamped at 0 (as the block loop's rule).
+      if (!(at_lo > T(0))) {
+        const T rounding = rest_rounding_velocity(event_level_, x, force_n, in.at(phi(pos)), in);
+        const T v_end = segment.velocity(span);
+        if (v_end * d < T(0) && S::abs(v_end) <= rounding && S::abs(v) <= rounding) {
+          x = segment.position(span);
+          v = T(0);
+          ++pos.tick;
+          pos.frac = T(0);
+          return false;
         }
       }
       T root = T(0);
@@ -275,9 +289,9 @@ inline bool Oscillator<T, Law>::slip(Position& pos, T& x, T& v, T d, const Input
         advance_block(x_end, v_end, pos.tick, level, in, force);
       }
       bool crossed = v_end * d < T(0);
-      // Interpolating integrators: a crossing within the rounding of a block started at rest is
-      // no event, and v_r is clamped at 0 (see rest_rounding_velocity()).
-      if (taylor_.order == 0) {
+      // A crossing within the rounding of a block started at rest is no event, and v_r is
+      // clamped at 0 (see rest_rounding_velocity()).
+      {
         const T rounding = rest_rounding_velocity(level, x, force_start, a_u_start, in);
         if (S::abs(v) <= rounding && S::abs(v_end) <= rounding) {
           v_end = T(0);
@@ -430,20 +444,23 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
         stuck_fraction += T(1) - phi_now;
         return events;
       }
-      const T limit_now = limit_force(input_at(in, phi_now), x_);
+      const T a_u_now = input_at(in, phi_now);
+      const T limit_now = limit_force(a_u_now, x_);
       T d = signum(limit_end);
-      // |F_L| crosses F_fs between now and the end; the denominator is non-zero because
-      // |limit_now| < F_fs < |limit_end| (at or above F_fs already: break away now).
+      // F_L reaches F_fs on limit_end's side between now and the end: the denominator is non-zero
+      // because limit_now is short of that threshold and limit_end beyond it. It may start on
+      // the threshold already (within the rounding the stick decision allows: break away now) or
+      // in the band on the other side (F_L falls through the band before it breaks away).
       T ratio = T(0);
-      if (S::abs(limit_now) < friction_.static_n) {
-        // d = +-1: its product is a sign.
-        const T threshold = d < T(0) ? -friction_.static_n : friction_.static_n;
-        ratio = S::proportion(threshold - limit_now, limit_end - limit_now);
-        ratio = ratio < T(0) ? T(0) : (ratio > T(1) ? T(1) : ratio);
-      } else if (S::abs(limit_now) > friction_.static_n) {
+      // d = +-1: its product is a sign.
+      const T threshold = d < T(0) ? -friction_.static_n : friction_.static_n;
+      if (S::abs(limit_now) > holding_limit_n(a_u_now, x_)) {
         // Beyond F_fs already (an actuator force that changed at the sample: F_L jumps there):
         // break away the way F_L points now.
         d = signum(limit_now);
+      } else if (d > T(0) ? limit_now < threshold : limit_now > threshold) {
+        ratio = S::proportion(threshold - limit_now, limit_end - limit_now);
+        ratio = ratio < T(0) ? T(0) : (ratio > T(1) ? T(1) : ratio);
       }
       // Stuck from the step's start, the usual case, the rest of the step is all of it: in
       // scene units its product by 1 is skipped.
@@ -471,9 +488,11 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
       return events;
     }
     ++events;
-    // v_r reached 0: stick if the limit force is within static friction, else reverse.
-    const T limit = limit_force(input_at(in, phi(pos)), x_);
-    direction_ = S::abs(limit) <= friction_.static_n ? T(0) : signum(limit);
+    // v_r reached 0: stick if the limit force is within static friction (to its rounding), else
+    // reverse.
+    const T a_u_now = input_at(in, phi(pos));
+    const T limit = limit_force(a_u_now, x_);
+    direction_ = S::abs(limit) <= holding_limit_n(a_u_now, x_) ? T(0) : signum(limit);
     starting = direction_ != T(0);
   }
 }

@@ -467,8 +467,8 @@ class Oscillator {
   STICKSLIP_COMPACT_INLINE static bool end_on_segment(const Segment& segment, bool found, T root,
                                                       T u_start, Position& pos, T& x,
                                                       T& v) noexcept;
-  bool finish_tick_taylor(Position& pos, T& x, T& v, T d, const Input& in, T force_n,
-                          bool starting) const noexcept;
+  STICKSLIP_COMPACT_INLINE bool finish_tick_taylor(Position& pos, T& x, T& v, T d, const Input& in,
+                                                   T force_n, bool starting) const noexcept;
   STICKSLIP_COMPACT_INLINE bool finish_tick_cubic(Position& pos, T& x, T& v, T d, const Input& in,
                                                   T force_n, bool starting) const noexcept;
   STICKSLIP_COMPACT_INLINE bool finish_tick_interpolated(Position& pos, T& x, T& v, T d,

@@ -291,12 +291,10 @@ inline bool Oscillator<T, Law>::slip(Position& pos, T& x, T& v, T d, const Input
       bool crossed = v_end * d < T(0);
       // A crossing within the rounding of a block started at rest is no event, and v_r is
       // clamped at 0 (see rest_rounding_velocity()).
-      {
-        const T rounding = rest_rounding_velocity(level, x, force_start, a_u_start, in);
-        if (S::abs(v) <= rounding && S::abs(v_end) <= rounding) {
-          v_end = T(0);
-          crossed = false;
-        }
+      const T rounding = rest_rounding_velocity(level, x, force_start, a_u_start, in);
+      if (S::abs(v) <= rounding && S::abs(v_end) <= rounding) {
+        v_end = T(0);
+        crossed = false;
       }
       bool dip = false;  // |v| fell and rose again inside the block: it may have crossed twice
       if (!crossed && a_start * d < T(0)) {

@@ -74,6 +74,26 @@ class SplitMix64 {
   std::uint64_t state_;
 };
 
+// A random seat with dry friction, for sweeps of the event search: m 40-140 kg, k 3e3-3e4 N/m,
+// b 0 (two seats in five) or up to 1000 N s/m, dt 1/2, 1 or 2 ms, F_fk 5-65 N with F_fs = F_fk
+// (half the seats: the slip after a break-away starts with a_r = 0) or up to 1.5 F_fk, v_S 2-32
+// mm/s; the exact integrator.
+inline OscillatorParams random_sticking_seat(SplitMix64& random, FrictionModel model) {
+  OscillatorParams p;
+  p.model = model;
+  p.integrator = Integrator::exact;
+  p.mass_kg = random.uniform(40.0, 140.0);
+  p.stiffness_n_per_m = 3.0e3 * std::pow(10.0, random.uniform(0.0, 1.0));
+  p.damping_ns_per_m = random.uniform(0.0, 1.0) < 0.4 ? 0.0 : random.uniform(0.0, 1000.0);
+  const double rate = random.uniform(0.0, 3.0);
+  p.dt_s = rate < 1.0 ? 5e-4 : (rate < 2.0 ? 1e-3 : 2e-3);
+  p.kinetic_friction_n = random.uniform(5.0, 65.0);
+  p.static_friction_n =
+      p.kinetic_friction_n * (random.uniform(0.0, 1.0) < 0.5 ? 1.0 : random.uniform(1.0, 1.5));
+  p.stribeck_velocity_m_per_s = random.uniform(0.002, 0.032);
+  return p;
+}
+
 // Lorry-like cab-floor acceleration: five components between 1 and 3 Hz with random phases (the
 // cab's heave and pitch band) plus 6.3 Hz and 12.6 Hz (wheel and engine orders), scaled to a
 // given RMS. The RMS is the continuous-time one, sqrt(sum A_i^2 / 2).

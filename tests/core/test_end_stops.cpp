@@ -271,9 +271,8 @@ TEST(EndStops, SeatHeldAtItsBreakAwayThresholdSpendsNoEventsOnRounding) {
 
 namespace {
 
-// A random seat with stops (m 40-140 kg, k 3e3-3e4 N/m, dt 1/2, 1 or 2 ms, seat and stop damping
-// often 0, Coulomb or Gaussian Stribeck with F_fs up to 1.5 F_fk, half the seats F_fk = F_fs,
-// stops 5-55 mm out with omega dt in contact from 0.02 to 1.4).
+// A random seat (test::random_sticking_seat()) with stops 5-55 mm out, omega dt in contact from
+// 0.02 to 1.4 and their damping 0 (two in five) or up to 3000 N s/m.
 struct RandomStopSeat {
   OscillatorParams seat;
   EndStopParams stops;
@@ -281,18 +280,8 @@ struct RandomStopSeat {
 
 RandomStopSeat random_stop_seat(test::SplitMix64& random, FrictionModel model) {
   RandomStopSeat r;
-  OscillatorParams& p = r.seat;
-  p.model = model;
-  p.integrator = Integrator::exact;
-  p.mass_kg = random.uniform(40.0, 140.0);
-  p.stiffness_n_per_m = 3.0e3 * std::pow(10.0, random.uniform(0.0, 1.0));
-  p.damping_ns_per_m = random.uniform(0.0, 1.0) < 0.4 ? 0.0 : random.uniform(0.0, 1000.0);
-  const double rate = random.uniform(0.0, 3.0);
-  p.dt_s = rate < 1.0 ? 5e-4 : (rate < 2.0 ? 1e-3 : 2e-3);
-  p.kinetic_friction_n = random.uniform(5.0, 65.0);
-  p.static_friction_n =
-      p.kinetic_friction_n * (random.uniform(0.0, 1.0) < 0.5 ? 1.0 : random.uniform(1.0, 1.5));
-  p.stribeck_velocity_m_per_s = random.uniform(0.002, 0.032);
+  r.seat = test::random_sticking_seat(random, model);
+  const OscillatorParams& p = r.seat;
   r.stops.travel_m = random.uniform(0.005, 0.055);
   const double contact_rate = random.uniform(0.02, 1.4) / p.dt_s;  // omega in contact
   r.stops.stiffness_n_per_m =

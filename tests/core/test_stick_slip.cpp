@@ -462,8 +462,7 @@ namespace {
 
 // A seat held at its break-away threshold by a floor chosen from its own state: F_L on +-F_fs,
 // alternating every 7 samples, with offsets down to 1e-8 m/s^2, between seconds of jumps and
-// swings. Random seats (m 40-140 kg, k 3e3-3e4 N/m, b often 0, dt 1/2, 1 or 2 ms; F_fs up to
-// 1.5 F_fk, half of them F_fk = F_fs, where the slip after a break-away starts with a_r = 0).
+// swings. Random seats (test::random_sticking_seat()).
 template <typename T, typename Law>
 void hold_random_seat_at_the_threshold(const OscillatorParams& p, std::uint64_t seed,
                                        int& most_events, std::uint64_t& exhausted,
@@ -510,19 +509,8 @@ TEST(StickSlip, RandomSeatsHeldAtTheBreakAwayThresholdNeverExhaustTheEventBudget
   std::uint64_t exhausted = 0;
   long stuck_steps = 0;
   for (int i = 0; i < 40; ++i) {
-    OscillatorParams p;
-    p.integrator = Integrator::exact;
-    p.mass_kg = random.uniform(40.0, 140.0);
-    p.stiffness_n_per_m = 3.0e3 * std::pow(10.0, random.uniform(0.0, 1.0));
-    p.damping_ns_per_m = random.uniform(0.0, 1.0) < 0.4 ? 0.0 : random.uniform(0.0, 1000.0);
-    const double rate = random.uniform(0.0, 3.0);
-    p.dt_s = rate < 1.0 ? 5e-4 : (rate < 2.0 ? 1e-3 : 2e-3);
-    p.kinetic_friction_n = random.uniform(5.0, 65.0);
-    p.static_friction_n =
-        p.kinetic_friction_n * (random.uniform(0.0, 1.0) < 0.5 ? 1.0 : random.uniform(1.0, 1.5));
-    p.stribeck_velocity_m_per_s = random.uniform(0.002, 0.032);
+    OscillatorParams p = test::random_sticking_seat(random, FrictionModel::stick_slip);
     const std::uint64_t floor_seed = random.next();
-    p.model = FrictionModel::stick_slip;
     hold_random_seat_at_the_threshold<float, CoulombStickSlip>(p, floor_seed, most_events,
                                                                exhausted, stuck_steps);
     hold_random_seat_at_the_threshold<double, CoulombStickSlip>(p, floor_seed, most_events,

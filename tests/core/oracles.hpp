@@ -94,6 +94,27 @@ inline OscillatorParams random_sticking_seat(SplitMix64& random, FrictionModel m
   return p;
 }
 
+// Floors for hostile runs of the event search, chosen sample by sample from the seat's own state:
+// `holding` is the a_u at which F_L would be 0 there, `friction` F_fs / m. White noise up to
+// 30 m/s^2; F_L held on +-F_fs (alternating every 7 samples, offsets down to 1e-8 m/s^2); swings
+// of F_L over 1.5 to 9.5 F_fs.
+enum class HostileFloor { noise, threshold, swing };
+inline double hostile_floor(HostileFloor kind, long n, double holding, double friction,
+                            SplitMix64& random) {
+  switch (kind) {
+    case HostileFloor::noise:
+      return random.uniform(-30.0, 30.0);
+    case HostileFloor::threshold: {
+      const double side = (n / 7) % 2 == 0 ? -1.0 : 1.0;
+      return holding - side * friction +
+             random.uniform(-1.0, 1.0) * std::pow(10.0, random.uniform(-8.0, 0.0));
+    }
+    case HostileFloor::swing:
+      break;
+  }
+  return holding + random.uniform(1.5, 9.5) * friction * random.uniform(-1.0, 1.0);
+}
+
 // Lorry-like cab-floor acceleration: five components between 1 and 3 Hz with random phases (the
 // cab's heave and pitch band) plus 6.3 Hz and 12.6 Hz (wheel and engine orders), scaled to a
 // given RMS. The RMS is the continuous-time one, sqrt(sum A_i^2 / 2).

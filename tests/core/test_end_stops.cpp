@@ -321,7 +321,7 @@ void run_hostile_floor(const RandomStopSeat& r, std::uint64_t seed, long steps, 
     double a_u = 0.0;
     switch ((n / 300) % 4) {
       case 0:
-        a_u = random.uniform(-30.0, 30.0);
+        a_u = test::hostile_floor(test::HostileFloor::noise, n, holding, f_fs / m, random);
         break;
       case 1: {
         const double side = (n / 900) % 2 == 0 ? -1.0 : 1.0;
@@ -329,14 +329,11 @@ void run_hostile_floor(const RandomStopSeat& r, std::uint64_t seed, long steps, 
         a_u = w * w * (x - edge) + 2.0 * w * v + holding + 2.0 * f_fs / m * random.uniform(-1, 1);
         break;
       }
-      case 2: {
-        const double side = (n / 7) % 2 == 0 ? -1.0 : 1.0;
-        a_u = holding - side * f_fs / m +
-              random.uniform(-1.0, 1.0) * std::pow(10.0, random.uniform(-8.0, 0.0));
+      case 2:
+        a_u = test::hostile_floor(test::HostileFloor::threshold, n, holding, f_fs / m, random);
         break;
-      }
       default:
-        a_u = holding + random.uniform(1.5, 9.5) * f_fs / m * random.uniform(-1.0, 1.0);
+        a_u = test::hostile_floor(test::HostileFloor::swing, n, holding, f_fs / m, random);
     }
     if (!(std::fabs(a_u) <= 200.0)) a_u = 0.0;  // a seat thrown far into a stiff stop
     const StepOutput<T> out = model.step(static_cast<T>(a_u));

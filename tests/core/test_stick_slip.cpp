@@ -473,20 +473,9 @@ void hold_random_seat_at_the_threshold(const OscillatorParams& p, std::uint64_t 
   const double m = p.mass_kg, f_fs = p.static_friction_n;
   for (long n = 0; n < 6000; ++n) {
     const double holding = -p.stiffness_n_per_m * static_cast<double>(seat.x_r()) / m;
-    double a_u = 0.0;
-    switch ((n / 300) % 3) {
-      case 0:
-        a_u = random.uniform(-30.0, 30.0);
-        break;
-      case 1: {
-        const double side = (n / 7) % 2 == 0 ? -1.0 : 1.0;
-        a_u = holding - side * f_fs / m +
-              random.uniform(-1.0, 1.0) * std::pow(10.0, random.uniform(-8.0, 0.0));
-        break;
-      }
-      default:
-        a_u = holding + random.uniform(1.5, 9.5) * f_fs / m * random.uniform(-1.0, 1.0);
-    }
+    const test::HostileFloor kinds[3] = {test::HostileFloor::noise, test::HostileFloor::threshold,
+                                         test::HostileFloor::swing};
+    const double a_u = test::hostile_floor(kinds[(n / 300) % 3], n, holding, f_fs / m, random);
     const StepOutput<T> out = seat.step(static_cast<T>(a_u));
     most_events = std::max(most_events, static_cast<int>(out.events));
     if (out.stuck) ++stuck_steps;

@@ -10,7 +10,8 @@
 #     disassembly, with the compiler's -fstack-usage lines of the same functions);
 #   - instructions per frame and the stack reached, running the firmware under QEMU, and its
 #     outputs against the host build of the same code, byte for byte;
-#   - the worst frame on the hardest input set (tools/qemu-worst-case.sh) against its limit;
+#   - the worst frame on the hardest input set (tools/qemu-worst-case.sh) against its limit, and
+#     where its instructions go, function by function (tools/qemu-frame-profile.sh);
 #   - the static bounds on the instructions of one step and of one frame (tools/elf-wcet.py with
 #     the loop bounds of port/baremetal/loop-bounds.json).
 #   tools/embedded-report.sh          (about 2 minutes on 2 cores; nothing to edit by hand after)
@@ -85,6 +86,16 @@ tools/qemu-worst-case.sh "$stickslip" build/release/port/baremetal build "$work/
   >"$work/worst.txt" || true
 tools/qemu-worst-case.sh --seat end-stops "$stickslip" build/release/port/baremetal build \
   "$work/worst-end-stops" 600 >"$work/worst-end-stops.txt" || true
+
+stage "QEMU: where the hardest set's worst frame goes (tools/qemu-frame-profile.sh)"
+for preset in cortex-m0plus cortex-m4f; do
+  index=$(awk -v preset="$preset" '$1 == preset {
+    for (i = 2; i <= NF; ++i) if ($i ~ /^worst_frame_index=/) print substr($i, 19) }' "$work/worst.txt")
+  if [ -n "$index" ]; then
+    tools/qemu-frame-profile.sh "$preset" "$index" "$work/worst/qemu/stickslip-input.bin" \
+      "$work/profile-$preset" >"$work/$preset.profile.txt" || true
+  fi
+done
 
 stage "static bounds on the instructions of a step and of a frame (tools/elf-wcet.py)"
 for preset in cortex-m0plus cortex-m4f; do
@@ -562,6 +573,77 @@ w("**Why the targets are missed.** "
   "instructions per sample for the window sums, and once per block (1 s) the window refolded "
   "from its 10 blocks and its figures in float (two square roots, a few divisions, three "
   "quantised words), several hundred more; every 10th frame adds SeatStats and SeatScene.")
+w("")
+def profile(preset):
+    path = f"{work}/{preset}.profile.txt"
+    if not os.path.exists(path):
+        return None
+    totals, rows = {}, []
+    for line in open(path):
+        parts = line.rstrip("\n").split("\t")
+        if len(parts) == 3:
+            rows.append((int(parts[0]), int(parts[1]), parts[2]))
+        elif line.split()[:1] in (["total"], ["step"]):
+            totals[line.split()[0]] = int(line.split()[1])
+    return totals, rows
+def profile_name(text):
+    text = re.sub(r" \[clone [^]]*\]", "", text).replace("(anonymous namespace)::", "")
+    while re.search(r"<[^<>]*>", text):
+        text = re.sub(r"<[^<>]*>", "", text)
+    text = text.split("(")[0].split()[-1]
+    for prefix in ("stickslip::", "fixed_point_detail::", "can::"):
+        text = text.replace(prefix, "")
+    return text
+profiles = {preset: profile(preset) for preset in ("cortex-m0plus", "cortex-m4f")}
+if all(profiles.values()):
+    w("### Where the worst frame goes")
+    w("")
+    w("QEMU's instruction log of the hardest set's worst frame alone (`tools/qemu-frame-profile.sh`: "
+      "the firmware rebuilt with a mark around that frame's interrupt, `-singlestep`, the log "
+      "turned on and off at the marks by gdb-multiarch, so the frame runs in the state the 600 s "
+      "before it left). *Instructions*: in the function itself, without its callees; *the step*: "
+      "from the entry of `stickslip_seat_step` until it returns.")
+    w("")
+    w("| build | worst frame: measured | traced | the seat's step | the node and the board |")
+    w("|---|---|---|---|---|")
+    for preset in ("cortex-m0plus", "cortex-m4f"):
+        totals, _ = profiles[preset]
+        measured = int(hard.get(preset, {}).get("instructions_per_frame_max", 0))
+        w(f"| {preset} | {measured:,} | {totals['total']:,} | {totals['step']:,} "
+          f"({100 * totals['step'] / totals['total']:.0f} %) | "
+          f"{totals['total'] - totals['step']:,} |")
+    w("")
+    w("The measured count is SysTick's, in ticks of 40 instructions, and holds the board's few "
+      "instructions around the call; the trace counts the interrupt's own.")
+    w("")
+    for preset in ("cortex-m0plus", "cortex-m4f"):
+        totals, rows = profiles[preset]
+        w(f"<details><summary>{preset}: the functions of the worst frame, costliest first</summary>")
+        w("")
+        w("| function | instructions | calls | per call | share of the frame |")
+        w("|---|---|---|---|---|")
+        shown = rows[:12]
+        for count, calls, name in shown:
+            per_call = f"{count / calls:.0f}" if calls else "-"
+            w(f"| `{profile_name(name)}` | {count:,} | {calls} | {per_call} | "
+              f"{100 * count / totals['total']:.1f} % |")
+        rest = sum(count for count, _, _ in rows[len(shown):])
+        w(f"| {len(rows) - len(shown)} others | {rest:,} | | | {100 * rest / totals['total']:.1f} % |")
+        w("")
+        w("</details>")
+        w("")
+    m0_totals, m0_rows = profiles["cortex-m0plus"]
+    arithmetic = [(count, calls) for count, calls, name in m0_rows
+                  if re.search(r"multiply_raw32|add_raw32|proportion_raw", name)]
+    arithmetic_count = sum(count for count, _ in arithmetic)
+    arithmetic_calls = sum(calls for _, calls in arithmetic)
+    w(f"On the Cortex-M0+ the Q7.24 kernels alone (product, saturating add, proportion: "
+      f"{arithmetic_calls} calls) take {arithmetic_count:,} instructions of the worst frame, "
+      f"{100 * arithmetic_count / m0_totals['total']:.0f} %; the node and the board take "
+      f"{m0_totals['total'] - m0_totals['step']:,}, which leaves "
+      f"{max(4000 - (m0_totals['total'] - m0_totals['step']), 0):,} of a 4,000-instruction frame "
+      f"for a step that here takes {m0_totals['step']:,}.")
+    w("")
 w("")
 w("## The ECU node around the step")
 w("")

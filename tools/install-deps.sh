@@ -3,7 +3,8 @@
 # available); prints what it does and fails clearly when it cannot install.
 #   tools/install-deps.sh            build and test dependencies (the arm-none-eabi cross toolchain too)
 #   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind,
-#                                    python3 and qemu-system-arm for tools/embedded-report.sh)
+#                                    python3, qemu-system-arm and gdb-multiarch for
+#                                    tools/embedded-report.sh)
 #   tools/install-deps.sh --figures  also what tools/paper-figures.sh needs (gnuplot)
 #   tools/install-deps.sh --fuzz     also clang and libFuzzer (tools/fuzz.sh)
 set -euo pipefail
@@ -32,7 +33,7 @@ packages=(cmake g++ make ccache cpputest libcli11-dev nlohmann-json3-dev libfmt-
   python3-dev python3-pybind11 python3-numpy python3-pytest python3-venv python3-matplotlib)
 for group in "$@"; do
   case "$group" in
-    --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm) ;;
+    --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm gdb-multiarch) ;;
     --figures) packages+=(gnuplot-nox) ;;
     --fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
     *) echo "install-deps: unknown group '$group' (known: --report, --figures, --fuzz)" >&2; exit 2 ;;

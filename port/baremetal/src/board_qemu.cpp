@@ -130,6 +130,14 @@ extern "C" void board_node_sampled() {
   stepped = true;
 }
 
+#ifdef STICKSLIP_PROFILE_FRAME
+// Called just before and just after the interrupt of frame STICKSLIP_PROFILE_FRAME (a profiling
+// build only): tools/qemu-frame-profile.sh breaks here to log that one frame's instructions.
+extern "C" __attribute__((noinline)) void board_profile_mark() {
+  asm volatile("" ::: "memory");
+}
+#endif
+
 extern "C" void board_idle() {
   if (replay.next_frame(&pending)) {
     has_pending = true;
@@ -137,8 +145,14 @@ extern "C" void board_idle() {
     volatile std::uint32_t marker = 0;
     callback_stack_base = reinterpret_cast<std::uintptr_t>(&marker);
     const std::uint32_t before = kSysTick[2];
+#ifdef STICKSLIP_PROFILE_FRAME
+    if (frames == STICKSLIP_PROFILE_FRAME) board_profile_mark();
+#endif
     CAN0_IRQHandler();  // the receive interrupt, as the controller would raise it
     const std::uint32_t after = kSysTick[2];
+#ifdef STICKSLIP_PROFILE_FRAME
+    if (frames == STICKSLIP_PROFILE_FRAME) board_profile_mark();
+#endif
     const std::uint32_t elapsed = (before - after) & kTicksMask;  // counts down
     ticks += elapsed;
     if (elapsed > worst_ticks) {

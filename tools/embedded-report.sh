@@ -543,7 +543,8 @@ w("**Why the targets are missed.** "
   f"({int(hard.get('cortex-m0plus', {}).get('instructions_per_frame_max', 0)):,}) is a step "
   "with events in a frame that also sends SeatStats and SeatScene (on the first minute of the "
   "set, one that also runs a square root of the window); its events (a crossing of v_r = 0 located by the "
-  "root search, a break-away, a slip to the end on a new cubic) are each a few dozen products. "
+  "root search, a break-away, a slip to the end on a new cubic) are each a few dozen products "
+  "(\"Where the worst frame goes\", below, counts them function by function). "
   "A worst frame of 4,000 would leave about 750 "
   "instructions per event beside the node's 1,440, some eighteen products. Meeting it would take a core with the "
   "32 x 32 -> 64-bit UMULL (the Cortex-M3 and up) or fewer operations per event than locating a "
@@ -566,9 +567,10 @@ w("**Why the targets are missed.** "
   "frames with their CRCs; a frame where the seat stays stuck is about 870, one that slips "
   "without events about 930), and a step with events builds a Taylor polynomial of order 3 and runs Newton on "
   "it in float, a few hundred instructions more per event: from the root of its quadratic part, "
-  "1 or 2 iterations per root on the hardest set (from the secant, where the curvature dominates "
-  "as a slip starts, Newton left the bracket and the search bisected, up to 17 iterations, and "
-  "the worst frame was 5,480). Its worst frame is a step with events in a frame that also sends "
+  "1 or 2 iterations for most roots of the hardest set (from the secant, where the curvature "
+  "dominates as a slip starts, Newton left the bracket and the search bisected, up to 17 "
+  "iterations, and the worst frame was 5,480); its worst frame is one whose two root searches "
+  "take more, and most of its polynomial evaluations (below). That frame is a step with events in a frame that also sends "
   "SeatStats and SeatScene (four frames with their CRCs). Its seat is the observer: about 80 "
   "instructions per sample for the window sums, and once per block (1 s) the window refolded "
   "from its 10 blocks and its figures in float (two square roots, a few divisions, three "
@@ -588,9 +590,10 @@ def profile(preset):
     return totals, rows
 def profile_name(text):
     text = re.sub(r" \[clone [^]]*\]", "", text).replace("(anonymous namespace)::", "")
+    text = text.replace("operator()(", "operator_call(")
     while re.search(r"<[^<>]*>", text):
         text = re.sub(r"<[^<>]*>", "", text)
-    text = text.split("(")[0].split()[-1]
+    text = text.split("(")[0].split()[-1].replace("operator_call", "operator()")
     for prefix in ("stickslip::", "fixed_point_detail::", "can::"):
         text = text.replace(prefix, "")
     return text
@@ -643,7 +646,6 @@ if all(profiles.values()):
       f"{m0_totals['total'] - m0_totals['step']:,}, which leaves "
       f"{max(4000 - (m0_totals['total'] - m0_totals['step']), 0):,} of a 4,000-instruction frame "
       f"for a step that here takes {m0_totals['step']:,}.")
-    w("")
 w("")
 w("## The ECU node around the step")
 w("")

@@ -627,7 +627,7 @@ if all(profiles.values()):
         w("|---|---|---|---|---|")
         shown = rows[:12]
         for count, calls, name in shown:
-            per_call = f"{count / calls:.0f}" if calls else "-"
+            per_call = f"{count / calls:,.0f}" if calls else "-"
             w(f"| `{profile_name(name)}` | {count:,} | {calls} | {per_call} | "
               f"{100 * count / totals['total']:.1f} % |")
         rest = sum(count for count, _, _ in rows[len(shown):])

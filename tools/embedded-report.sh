@@ -337,7 +337,9 @@ w("Counted by QEMU with `-icount shift=0` (one instruction = 1 ns of virtual tim
   "around each call of the CAN receive interrupt (percentiles: upper edges of 100-instruction "
   "buckets), so a frame's count holds the driver hand-off, "
   "the receive check (CRC, counters), the step and the reply frames (checked against an instruction trace, "
-  "`-singlestep -d exec`: equal to within one SysTick tick of 40 instructions). The Cortex-M0+ "
+  "`-singlestep -d exec`: equal to within one SysTick tick of 40 instructions and the board's 5 "
+  "between its two reads; CTest `embedded.instruction_trace_matches_the_systick_count` traces "
+  "the slowest frame of the lorry run on both targets with `tools/qemu-frame-profile.sh`). The Cortex-M0+ "
   "build's instruction set is a subset of the M3's, so the counts are its own instructions; "
   "cycles on a real M0+ add a second cycle to loads, stores and taken branches, plus flash wait "
   "states, and depend on its multiplier option (MULS in 1 or 32 cycles). "
@@ -617,7 +619,19 @@ if all(profiles.values()):
           f"{totals['total'] - totals['step']:,} |")
     w("")
     w("The measured count is SysTick's, in ticks of 40 instructions, and holds the board's few "
-      "instructions around the call; the trace counts the interrupt's own.")
+      "instructions around the call; the trace counts the interrupt's own. To trace a frame "
+      "yourself (here the slowest of the lorry run that CTest "
+      "`embedded.qemu_matches_host_bit_for_bit` leaves behind):")
+    w("")
+    w('<!-- docs-test: skip reason="needs the cross toolchain, QEMU and gdb-multiarch; CTest '
+      'embedded.instruction_trace_matches_the_systick_count runs the same" -->')
+    w("```sh")
+    w("cmake --preset release && cmake --build --preset release -j2")
+    w("ctest --preset release -R embedded.qemu_matches_host_bit_for_bit")
+    w("qemu=build/release/tests/embedded/qemu")
+    w("frame=$(awk '$1 == \"worst_frame_index\" {print $2}' $qemu/cortex-m0plus/qemu.txt)")
+    w("tools/qemu-frame-profile.sh cortex-m0plus $frame $qemu/stickslip-input.bin /tmp/frame-profile")
+    w("```")
     w("")
     for preset in ("cortex-m0plus", "cortex-m4f"):
         totals, rows = profiles[preset]

@@ -3,8 +3,7 @@
 # available); prints what it does and fails clearly when it cannot install.
 #   tools/install-deps.sh            build and test dependencies (the arm-none-eabi cross toolchain too)
 #   tools/install-deps.sh --report   also what the measurement reports need (plots, callgrind,
-#                                    python3, qemu-system-arm and gdb-multiarch for
-#                                    tools/embedded-report.sh)
+#                                    python3 for tools/embedded-report.sh)
 #   tools/install-deps.sh --figures  also what tools/paper-figures.sh needs (gnuplot)
 #   tools/install-deps.sh --fuzz     also clang and libFuzzer (tools/fuzz.sh)
 set -euo pipefail
@@ -16,6 +15,10 @@ packages=(cmake g++ make ccache cpputest libcli11-dev nlohmann-json3-dev libfmt-
           # gnuplot: the PNGs of `fit --plot` and `closed-loop --plot` (their tests draw them).
           gnuplot-nox
           gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
+          # qemu-system-arm: the firmware on QEMU's mps2 boards against the host build of its node
+          # (CTest label embedded); gdb-multiarch turns QEMU's instruction log on for one frame
+          # (tools/qemu-frame-profile.sh, CTest embedded.instruction_trace_matches_the_systick_count).
+          qemu-system-arm gdb-multiarch
   # clang-format (version 14 in Debian 12): tools/format.sh and the CTest test format.check.
   clang-format
   # can-utils: the candump-log cross-check (log2asc) and the vcan guest's tools. The vcan guest
@@ -33,7 +36,7 @@ packages=(cmake g++ make ccache cpputest libcli11-dev nlohmann-json3-dev libfmt-
   python3-dev python3-pybind11 python3-numpy python3-pytest python3-venv python3-matplotlib)
 for group in "$@"; do
   case "$group" in
-    --report) packages+=(gnuplot-nox valgrind python3 qemu-system-arm gdb-multiarch) ;;
+    --report) packages+=(gnuplot-nox valgrind python3) ;;
     --figures) packages+=(gnuplot-nox) ;;
     --fuzz) packages+=(clang-14 libclang-rt-14-dev) ;;
     *) echo "install-deps: unknown group '$group' (known: --report, --figures, --fuzz)" >&2; exit 2 ;;

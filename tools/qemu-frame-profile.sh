@@ -39,7 +39,7 @@ esac
 [ -s "$input" ] || { echo "qemu-frame-profile: $input: no frame records" >&2; exit 2; }
 for tool in qemu-system-arm gdb-multiarch arm-none-eabi-nm arm-none-eabi-c++filt; do
   command -v "$tool" >/dev/null ||
-    { echo "qemu-frame-profile: $tool is missing (tools/install-deps.sh --report)" >&2; exit 2; }
+    { echo "qemu-frame-profile: $tool is missing (tools/install-deps.sh installs it)" >&2; exit 2; }
 done
 
 source_dir=$(cd "$(dirname "$0")/.." && pwd)

@@ -10,6 +10,7 @@
 # long as the frame.
 set -euo pipefail
 qemu_dir=$(realpath "$1") work=$2
+mkdir -p "$work"
 here=$(dirname "$(realpath "$0")")
 readonly kTolerance=45  # the counts differ by less than this
 status=0

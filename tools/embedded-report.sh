@@ -87,14 +87,19 @@ tools/qemu-worst-case.sh "$stickslip" build/release/port/baremetal build "$work/
 tools/qemu-worst-case.sh --seat end-stops "$stickslip" build/release/port/baremetal build \
   "$work/worst-end-stops" 600 >"$work/worst-end-stops.txt" || true
 
-stage "QEMU: where the hardest set's worst frame goes (tools/qemu-frame-profile.sh)"
-for preset in cortex-m0plus cortex-m4f; do
-  index=$(awk -v preset="$preset" '$1 == preset {
-    for (i = 2; i <= NF; ++i) if ($i ~ /^worst_frame_index=/) print substr($i, 19) }' "$work/worst.txt")
-  if [ -n "$index" ]; then
-    tools/qemu-frame-profile.sh "$preset" "$index" "$work/worst/qemu/stickslip-input.bin" \
-      "$work/profile-$preset" >"$work/$preset.profile.txt" || true
-  fi
+stage "QEMU: where the hardest sets' worst frames go (tools/qemu-frame-profile.sh)"
+for seat in reference end-stops; do
+  run=worst kind="" preset_suffix=""
+  if [ "$seat" = end-stops ]; then run=worst-end-stops kind=.end-stops preset_suffix=_end_stops; fi
+  for preset in cortex-m0plus cortex-m4f; do
+    index=$(awk -v preset="$preset$preset_suffix" '$1 == preset {
+      for (i = 2; i <= NF; ++i) if ($i ~ /^worst_frame_index=/) print substr($i, 19) }' "$work/$run.txt")
+    if [ -n "$index" ]; then
+      tools/qemu-frame-profile.sh --seat "$seat" "$preset" "$index" \
+        "$work/$run/qemu/stickslip-input.bin" "$work/profile-$preset$kind" \
+        >"$work/$preset$kind.profile.txt" || true
+    fi
+  done
 done
 
 stage "static bounds on the instructions of a step and of a frame (tools/elf-wcet.py)"
@@ -578,8 +583,8 @@ w("**Why the targets are missed.** "
   "from its 10 blocks and its figures in float (two square roots, a few divisions, three "
   "quantised words), several hundred more; every 10th frame adds SeatStats and SeatScene.")
 w("")
-def profile(preset):
-    path = f"{work}/{preset}.profile.txt"
+def profile(preset, kind=""):
+    path = f"{work}/{preset}{kind}.profile.txt"
     if not os.path.exists(path):
         return None
     totals, rows = {}, []
@@ -599,6 +604,40 @@ def profile_name(text):
     for prefix in ("stickslip::", "fixed_point_detail::", "can::"):
         text = text.replace(prefix, "")
     return text
+def kernels(rows):
+    # The Q7.24 kernels: product, saturating add, proportion (their instructions and calls).
+    chosen = [(count, calls) for count, calls, name in rows
+              if re.search(r"multiply_raw32|add_raw32|proportion_raw", name)]
+    return sum(count for count, _ in chosen), sum(calls for _, calls in chosen)
+def profile_summary(profiles, runs):
+    w("| build | worst frame: measured | traced | the seat's step | the node and the board | Q7.24 kernels (calls) |")
+    w("|---|---|---|---|---|---|")
+    for preset in ("cortex-m0plus", "cortex-m4f"):
+        totals, rows = profiles[preset]
+        measured = int(runs.get(preset, {}).get("instructions_per_frame_max", 0))
+        count, calls = kernels(rows)
+        w(f"| {preset} | {measured:,} | {totals['total']:,} | {totals['step']:,} "
+          f"({100 * totals['step'] / totals['total']:.0f} %) | "
+          f"{totals['total'] - totals['step']:,} | "
+          + (f"{count:,} ({calls}), {100 * count / totals['total']:.0f} % |" if calls else "- |"))
+    w("")
+def profile_details(profiles, what):
+    for preset in ("cortex-m0plus", "cortex-m4f"):
+        totals, rows = profiles[preset]
+        w(f"<details><summary>{preset}: the functions of {what}, costliest first</summary>")
+        w("")
+        w("| function | instructions | calls | per call | share of the frame |")
+        w("|---|---|---|---|---|")
+        shown = rows[:12]
+        for count, calls, name in shown:
+            per_call = f"{count / calls:,.0f}" if calls else "-"
+            w(f"| `{profile_name(name)}` | {count:,} | {calls} | {per_call} | "
+              f"{100 * count / totals['total']:.1f} % |")
+        rest = sum(count for count, _, _ in rows[len(shown):])
+        w(f"| {len(rows) - len(shown)} others | {rest:,} | | | {100 * rest / totals['total']:.1f} % |")
+        w("")
+        w("</details>")
+        w("")
 profiles = {preset: profile(preset) for preset in ("cortex-m0plus", "cortex-m4f")}
 if all(profiles.values()):
     w("### Where the worst frame goes")
@@ -607,17 +646,10 @@ if all(profiles.values()):
       "the firmware rebuilt with a mark around that frame's interrupt, `-singlestep`, the log "
       "turned on and off at the marks by gdb-multiarch, so the frame runs in the state the 600 s "
       "before it left). *Instructions*: in the function itself, without its callees; *the step*: "
-      "from the entry of `stickslip_seat_step` until it returns.")
+      "from the entry of `stickslip_seat_step` until it returns; *Q7.24 kernels*: the product, "
+      "the saturating add and the proportion (`core/fixed_point32.hpp`), with their calls.")
     w("")
-    w("| build | worst frame: measured | traced | the seat's step | the node and the board |")
-    w("|---|---|---|---|---|")
-    for preset in ("cortex-m0plus", "cortex-m4f"):
-        totals, _ = profiles[preset]
-        measured = int(hard.get(preset, {}).get("instructions_per_frame_max", 0))
-        w(f"| {preset} | {measured:,} | {totals['total']:,} | {totals['step']:,} "
-          f"({100 * totals['step'] / totals['total']:.0f} %) | "
-          f"{totals['total'] - totals['step']:,} |")
-    w("")
+    profile_summary(profiles, hard)
     w("The measured count is SysTick's, in ticks of 40 instructions, and holds the board's few "
       "instructions around the call; the trace counts the interrupt's own. To trace a frame "
       "yourself (here the slowest of the lorry run that CTest "
@@ -633,33 +665,12 @@ if all(profiles.values()):
     w("tools/qemu-frame-profile.sh cortex-m0plus $frame $qemu/stickslip-input.bin /tmp/frame-profile")
     w("```")
     w("")
-    for preset in ("cortex-m0plus", "cortex-m4f"):
-        totals, rows = profiles[preset]
-        w(f"<details><summary>{preset}: the functions of the worst frame, costliest first</summary>")
-        w("")
-        w("| function | instructions | calls | per call | share of the frame |")
-        w("|---|---|---|---|---|")
-        shown = rows[:12]
-        for count, calls, name in shown:
-            per_call = f"{count / calls:,.0f}" if calls else "-"
-            w(f"| `{profile_name(name)}` | {count:,} | {calls} | {per_call} | "
-              f"{100 * count / totals['total']:.1f} % |")
-        rest = sum(count for count, _, _ in rows[len(shown):])
-        w(f"| {len(rows) - len(shown)} others | {rest:,} | | | {100 * rest / totals['total']:.1f} % |")
-        w("")
-        w("</details>")
-        w("")
+    profile_details(profiles, "the worst frame")
     m0_totals, m0_rows = profiles["cortex-m0plus"]
-    arithmetic = [(count, calls) for count, calls, name in m0_rows
-                  if re.search(r"multiply_raw32|add_raw32|proportion_raw", name)]
-    arithmetic_count = sum(count for count, _ in arithmetic)
-    arithmetic_calls = sum(calls for _, calls in arithmetic)
-    w(f"On the Cortex-M0+ the Q7.24 kernels alone (product, saturating add, proportion: "
-      f"{arithmetic_calls} calls) take {arithmetic_count:,} instructions of the worst frame, "
-      f"{100 * arithmetic_count / m0_totals['total']:.0f} %; the node and the board take "
-      f"{m0_totals['total'] - m0_totals['step']:,}, which leaves "
-      f"{max(4000 - (m0_totals['total'] - m0_totals['step']), 0):,} of a 4,000-instruction frame "
-      f"for a step that here takes {m0_totals['step']:,}.")
+    node = m0_totals["total"] - m0_totals["step"]
+    w(f"On the Cortex-M0+ the node and the board take {node:,} instructions of the worst frame, "
+      f"which leaves {max(4000 - node, 0):,} of a 4,000-instruction frame for a step that here "
+      f"takes {m0_totals['step']:,}.")
 w("")
 w("## The ECU node around the step")
 w("")
@@ -742,6 +753,12 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
       f"{ratio(hard_max, hard_p50):.2f}x | {v.get('limit', '?')} ({v.get('verdict', '?')}) | "
       f"{v.get('within_bound', '?')} |")
 w("")
+end_profiles = {preset: profile(preset, ".end-stops") for preset in ("cortex-m0plus", "cortex-m4f")}
+if all(end_profiles.values()):
+    w("Where its worst frames go (`tools/qemu-frame-profile.sh --seat end-stops`, as above):")
+    w("")
+    profile_summary(end_profiles, end_hard)
+    profile_details(end_profiles, "the end-stop seat's worst frame")
 w("The compile definition `STICKSLIP_FIRMWARE_END_STOPS` (the ELF "
   "`stickslip_firmware_qemu_end_stops.elf`, which both presets build) builds the same node with the seat of `docs/scenes/seat-with-end-stops.toml`: "
   "F_fk = F_fs = 30 N, stops at +-50 mm of 2e5 N/m and 2,000 N s/m, on the M0+ "

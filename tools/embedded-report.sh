@@ -451,9 +451,14 @@ w("")
 wcet = {preset: {kind: json.load(open(f"{work}/{preset}.wcet-{kind}.json"))
                  for kind in ("step", "frame", "gap")} for preset in ("cortex-m0plus", "cortex-m4f")}
 def short_name(symbol):
+    # Class and function without templates, arguments or namespaces stickslip:: and
+    # fixed_point_detail:: (a mangled or a demangled name: c++filt passes the latter through).
     text = subprocess.run(["c++filt", symbol], capture_output=True, text=True).stdout.strip()
-    text = re.sub(r"\(.*", "", text)
-    text = re.sub(r"<[^<>]*(<[^<>]*>[^<>]*)*>", "", text).split()[-1]
+    text = re.sub(r" \[clone [^]]*\]", "", text).replace("(anonymous namespace)::", "")
+    text = text.replace("operator()(", "operator_call(")
+    while re.search(r"<[^<>]*>", text):
+        text = re.sub(r"<[^<>]*>", "", text)
+    text = text.split("(")[0].split()[-1].replace("operator_call", "operator()")
     return text.replace("stickslip::", "").replace("fixed_point_detail::", "")
 w("### The static bound")
 w("")
@@ -595,15 +600,6 @@ def profile(preset, kind=""):
         elif line.split()[:1] in (["total"], ["step"]):
             totals[line.split()[0]] = int(line.split()[1])
     return totals, rows
-def profile_name(text):
-    text = re.sub(r" \[clone [^]]*\]", "", text).replace("(anonymous namespace)::", "")
-    text = text.replace("operator()(", "operator_call(")
-    while re.search(r"<[^<>]*>", text):
-        text = re.sub(r"<[^<>]*>", "", text)
-    text = text.split("(")[0].split()[-1].replace("operator_call", "operator()")
-    for prefix in ("stickslip::", "fixed_point_detail::", "can::"):
-        text = text.replace(prefix, "")
-    return text
 def kernels(rows):
     # The Q7.24 kernels: product, saturating add, proportion (their instructions and calls).
     chosen = [(count, calls) for count, calls, name in rows
@@ -631,7 +627,7 @@ def profile_details(profiles, what):
         shown = rows[:12]
         for count, calls, name in shown:
             per_call = f"{count / calls:,.0f}" if calls else "-"
-            w(f"| `{profile_name(name)}` | {count:,} | {calls} | {per_call} | "
+            w(f"| `{short_name(name)}` | {count:,} | {calls} | {per_call} | "
               f"{100 * count / totals['total']:.1f} % |")
         rest = sum(count for count, _, _ in rows[len(shown):])
         w(f"| {len(rows) - len(shown)} others | {rest:,} | | | {100 * rest / totals['total']:.1f} % |")

@@ -66,14 +66,16 @@ qemu_pid=$!
 trap 'kill "$qemu_pid" 2>/dev/null || true' EXIT
 # gdb connects once QEMU listens (state 0A in /proc/net/tcp): connecting to probe would let QEMU
 # run on when the probe hangs up.
-port_hex=$(printf '%04X' "$port")
+listening() {
+  awk -v port=":$(printf '%04X' "$port")" '$2 ~ port"$" && $4 == "0A" {found = 1} END {exit !found}' \
+    /proc/net/tcp
+}
 for _ in $(seq 100); do
-  awk -v port=":$port_hex" '$2 ~ port"$" && $4 == "0A" {found = 1} END {exit !found}' /proc/net/tcp &&
-    break
+  listening && break
   kill -0 "$qemu_pid" 2>/dev/null || break
   sleep 0.1
 done
-if ! awk -v port=":$port_hex" '$2 ~ port"$" && $4 == "0A" {found = 1} END {exit !found}' /proc/net/tcp; then
+if ! listening; then
   echo "qemu-frame-profile: QEMU did not start its debugger port, see $run/qemu.txt" >&2
   exit 1
 fi

@@ -560,6 +560,9 @@ class EndStopOscillator {
   int search(const Input& in, T& stuck_fraction, StopContacts<T>& out) noexcept;
   bool break_away(const Input& in, Position& pos, T& stuck_fraction) noexcept;
   Boundary move_to_mode_end(const Input& in, Position& pos, bool detect) noexcept;
+  Boundary leave_at_tick(const Input& in, unsigned lo, T x, T v, T xn, T vn,
+                         Position& pos) noexcept;
+  bool dips(const Input& in, T x, T v, unsigned at, T xn, T vn, unsigned next) const noexcept;
   Boundary within_tick(const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept;
   Boundary within_tick_taylor(const Input& in, Position& pos, T& x, T& v,
                               bool detect) const noexcept;

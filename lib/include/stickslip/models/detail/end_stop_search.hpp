@@ -4,7 +4,9 @@
 // One engine for every mode boundary: v_r = 0 while slipping (stick or reversal), |x_r| = travel
 // (contact from the free stroke, release from a stop) and, while stuck, |F_L| = F_fs
 // (break-away). The mode's exact affine maps scan the step on its grid of 2^16 ticks (16 blocks,
-// then bisection down to the tick whose end leaves the mode); inside that tick the mode's exact
+// then bisection down to the tick whose end leaves the mode, or, where |v_r| fell and rose again
+// inside a block, down to the tick of its turn, where v_r may cross 0 and back between the
+// block's ends); inside that tick the mode's exact
 // motion is its Taylor polynomial (order chosen in configure() so that the truncation is below
 // the scalar's rounding), on which the boundary is solved for: v_r = 0 by TaylorSegment's
 // first_crossing (a dip to 0 and back included), x_r = +-travel by TaylorSegment::edge_crossing
@@ -14,7 +16,8 @@
 //
 // Loop bounds (the step's work): at most kMaxEventsPerStep events; per event one scan of at most
 // 16 blocks, one bisection of 12 levels, one Taylor tick (its root searches run at most
-// kMaxRootIterations<T> iterations each, integrators/taylor_segment.hpp). Q7.24 (one tick per
+// kMaxRootIterations<T> iterations each, integrators/taylor_segment.hpp); a block of the scan
+// whose |v_r| dips adds at most a bisection of 12 levels and one Taylor tick. Q7.24 (one tick per
 // step): per event one cubic polynomial, its v_r root search (kCubicRootNewtonSteps) and the
 // stroke boundary's (end_stop_detail::cubic_edge_root(): at most kCubicStrokeNewtonSteps + 25).
 #pragma once
@@ -162,22 +165,39 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
     T xn, vn;
     if (span_leaves_mode(in, x, v, end, next - end, xn, vn, true) && detect) {
       const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
-      Position at{lo, T(0)};
-      Boundary found = within_tick(in, at, x, v, true);
-      if (found == Boundary::none) {
-        // The polynomial stays in the mode where the maps leave it: they differ by rounding (in
-        // float one tick can move x_r by less than its ulp), and the boundary is the tick's end,
-        // of the kind the maps saw there.
-        x = xn;
-        v = vn;
-        at = Position{lo + 1, T(0)};
-        const bool stroke = contact_ == 0 ? region(x) != 0 : x * T(contact_) < travel_;
-        found = stroke ? Boundary::stroke : Boundary::velocity;
+      return leave_at_tick(in, lo, x, v, xn, vn, pos);
+    }
+    if (detect && dips(in, x, v, end, xn, vn, next)) {
+      // v_r fell towards 0 and rose again inside the block: it may cross 0 and back between its
+      // ends (the plain seat's search bisects such a block too). Bisection follows the turn of
+      // v_r, a_r d changing sign, down to its tick, unless a half's end leaves the mode first;
+      // the tick's polynomial then finds the crossing, a dip to 0 and back included.
+      unsigned lo = end, hi = next;
+      T xl = x, vl = v;
+      while (hi - lo > 1) {
+        const unsigned mid = lo + (hi - lo) / 2;
+        T xm, vm;
+        if (span_leaves_mode(in, xl, vl, lo, mid - lo, xm, vm, false)) {
+          lo = first_tick_leaving_mode(in, lo, mid, xl, vl, xm, vm);
+          return leave_at_tick(in, lo, xl, vl, xm, vm, pos);
+        }
+        if (dips(in, xl, vl, lo, xm, vm, mid)) {
+          hi = mid;
+        } else {
+          lo = mid;
+          xl = xm;
+          vl = vm;
+        }
       }
-      x_ = x;
-      v_ = v;
-      pos = at;
-      return found;
+      Position at{lo, T(0)};
+      const Boundary found = within_tick(in, at, xl, vl, true);
+      if (found != Boundary::none) {
+        x_ = xl;
+        v_ = vl;
+        pos = at;
+        return found;
+      }
+      // No crossing on the polynomial: the block holds the mode to its end.
     }
     x = xn;
     v = vn;
@@ -201,6 +221,48 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
   v_ = v;
   pos = Position{kTicks, T(0)};
   return Boundary::none;
+}
+
+// The scan left the mode at the end of tick `lo`, whose start state is (x, v) and end state by
+// the maps (xn, vn): the boundary inside it, the state and pos there.
+template <typename T, typename Law>
+typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::leave_at_tick(
+    const Input& in, unsigned lo, T x, T v, T xn, T vn, Position& pos) noexcept {
+  Position at{lo, T(0)};
+  Boundary found = within_tick(in, at, x, v, true);
+  if (found == Boundary::none) {
+    // The polynomial stays in the mode where the maps leave it: they differ by rounding (in
+    // float one tick can move x_r by less than its ulp), and the boundary is the tick's end, of
+    // the kind the maps saw there.
+    x = xn;
+    v = vn;
+    at = Position{lo + 1, T(0)};
+    found = stroke_ends(x) ? Boundary::stroke : Boundary::velocity;
+  }
+  x_ = x;
+  v_ = v;
+  pos = at;
+  return found;
+}
+
+// Slipping from (x, v) at tick `at` to (xn, vn) at tick `next` without leaving the mode: whether
+// |v_r| fell and rose again in between (a_r d < 0 at the start, > 0 at the end), so that v_r may
+// have crossed 0 and back. A block that starts at rest to within the rounding of its terms (a
+// slip's start, a_r d >= 0 to rounding) is no dip (see rest_rounding_velocity()).
+template <typename T, typename Law>
+bool EndStopOscillator<T, Law>::dips(const Input& in, T x, T v, unsigned at, T xn, T vn,
+                                     unsigned next) const noexcept {
+  if constexpr (kSticking) {
+    const T d = direction_;
+    if (d == T(0) || !((seat_acceleration(x, v) - in.at(T(at) * tick_fraction_)) * d < T(0))) {
+      return false;
+    }
+    if (S::abs(v) <= rest_rounding_velocity(x, at, next - at, in)) return false;
+    return (seat_acceleration(xn, vn) - in.at(T(next) * tick_fraction_)) * d > T(0);
+  } else {
+    (void)in, (void)x, (void)v, (void)at, (void)xn, (void)vn, (void)next;
+    return false;
+  }
 }
 
 // From pos to the end of its tick, or (with `detect`) to the first boundary inside it: returns

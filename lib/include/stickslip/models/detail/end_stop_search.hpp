@@ -16,8 +16,9 @@
 //
 // Loop bounds (the step's work): at most kMaxEventsPerStep events; per event one scan of at most
 // 16 blocks, one bisection of 12 levels, one Taylor tick (its root searches run at most
-// kMaxRootIterations<T> iterations each, integrators/taylor_segment.hpp); a block of the scan
-// whose |v_r| dips adds at most a bisection of 12 levels and one Taylor tick. Q7.24 (one tick per
+// kMaxRootIterations<T> iterations each, integrators/taylor_segment.hpp); one block of the scan
+// whose |v_r| dips adds a bisection of at most 12 levels and one Taylor tick, and a second scan of
+// the rest of the step (at most one such block per event: move_to_mode_end()). Q7.24 (one tick per
 // step): per event one cubic polynomial, its v_r root search (kCubicRootNewtonSteps) and the
 // stroke boundary's (end_stop_detail::cubic_edge_root(): at most kCubicStrokeNewtonSteps + 25).
 #pragma once
@@ -160,45 +161,61 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
     if (inside != Boundary::none || pos.tick >= kTicks) return inside;
   }
   unsigned end = pos.tick;
-  while (end < kTicks) {
-    const unsigned next = (end / kScanBlock + 1) * kScanBlock;
-    T xn, vn;
-    if (span_leaves_mode(in, x, v, end, next - end, xn, vn, true) && detect) {
-      const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
-      return leave_at_tick(in, lo, x, v, xn, vn, pos);
-    }
-    if (detect && dips(in, x, v, end, xn, vn, next)) {
-      // v_r fell towards 0 and rose again inside the block: it may cross 0 and back between its
-      // ends (the plain seat's search bisects such a block too). Bisection follows the turn of
-      // v_r, a_r d changing sign, down to its tick, unless a half's end leaves the mode first;
-      // the tick's polynomial then finds the crossing, a dip to 0 and back included.
-      unsigned lo = end, hi = next;
-      T xl = x, vl = v;
-      while (hi - lo > 1) {
-        const unsigned mid = lo + (hi - lo) / 2;
-        T xm, vm;
-        if (span_leaves_mode(in, xl, vl, lo, mid - lo, xm, vm, false)) {
-          lo = first_tick_leaving_mode(in, lo, mid, xl, vl, xm, vm);
-          return leave_at_tick(in, lo, xl, vl, xm, vm, pos);
-        }
-        if (dips(in, xl, vl, lo, xm, vm, mid)) {
-          hi = mid;
-        } else {
-          lo = mid;
-          xl = xm;
-          vl = vm;
-        }
+  // The scan stops at a block where |v_r| fell and rose again (v_r may cross 0 and back between
+  // its ends; the plain seat's search bisects such a block too). There bisection follows the turn
+  // of v_r, a_r d changing sign, down to its tick, unless a half's end leaves the mode first, and
+  // the tick's polynomial finds the crossing, a dip to 0 and back included. a_r changes sign at
+  // most once a step in one mode: it solves the mode's homogeneous equation, a_r'' + (b/m) a_r' +
+  // (k/m) a_r = 0 (the input's slope and the friction are constant over the piece), whose zeros
+  // lie pi/omega_d >= 2 dt apart (configure(): omega0 dt <= pi/2, free and in contact). So one
+  // dipping block is searched, and the scan runs at most twice: before it and after it.
+  bool dip_searched = false;
+  for (int scan = 0; scan < 2 && end < kTicks; ++scan) {
+    unsigned next = end;
+    T xn = x, vn = v;
+    bool dipping = false;
+    while (end < kTicks) {
+      next = (end / kScanBlock + 1) * kScanBlock;
+      if (span_leaves_mode(in, x, v, end, next - end, xn, vn, true) && detect) {
+        const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
+        return leave_at_tick(in, lo, x, v, xn, vn, pos);
       }
-      Position at{lo, T(0)};
-      const Boundary found = within_tick(in, at, xl, vl, true);
-      if (found != Boundary::none) {
-        x_ = xl;
-        v_ = vl;
-        pos = at;
-        return found;
+      if (detect && !dip_searched && dips(in, x, v, end, xn, vn, next)) {
+        dipping = true;
+        break;
       }
-      // No crossing on the polynomial: the block holds the mode to its end.
+      x = xn;
+      v = vn;
+      end = next;
     }
+    if (!dipping) break;
+    dip_searched = true;
+    unsigned lo = end, hi = next;
+    T xl = x, vl = v;
+    while (hi - lo > 1) {
+      const unsigned mid = lo + (hi - lo) / 2;
+      T xm, vm;
+      if (span_leaves_mode(in, xl, vl, lo, mid - lo, xm, vm, false)) {
+        lo = first_tick_leaving_mode(in, lo, mid, xl, vl, xm, vm);
+        return leave_at_tick(in, lo, xl, vl, xm, vm, pos);
+      }
+      if (dips(in, xl, vl, lo, xm, vm, mid)) {
+        hi = mid;
+      } else {
+        lo = mid;
+        xl = xm;
+        vl = vm;
+      }
+    }
+    Position at{lo, T(0)};
+    const Boundary found = within_tick(in, at, xl, vl, true);
+    if (found != Boundary::none) {
+      x_ = xl;
+      v_ = vl;
+      pos = at;
+      return found;
+    }
+    // No crossing on the polynomial: the block holds the mode to its end.
     x = xn;
     v = vn;
     end = next;

@@ -107,6 +107,9 @@ for line in subprocess.run(["arm-none-eabi-nm", elf], capture_output=True, text=
     parts = line.split()
     if len(parts) == 3 and parts[1] in "tTW":
         starts[parts[2]] = int(parts[0], 16) & ~1
+# By address: a constructor's complete and base-object symbols (C1, C2) are one function, and
+# QEMU's log may name it by either.
+step_starts = {starts[name] for name in step_functions if name in starts}
 board = {"board_idle", "board_profile_mark"}
 self_count, calls, total, step, in_step = {}, {}, 0, 0, False
 pattern = re.compile(r"\[[0-9a-f]+/([0-9a-f]+)/[0-9a-f]+/[0-9a-f]+\]\s+(\S+)")
@@ -121,7 +124,7 @@ with open(log) as trace:
         total += 1
         if symbol == "stickslip_seat_step" and starts.get(symbol) == pc:
             in_step = True
-        elif symbol not in step_functions:
+        elif symbol not in step_functions and starts.get(symbol) not in step_starts:
             in_step = False
         step += in_step
         self_count[symbol] = self_count.get(symbol, 0) + 1

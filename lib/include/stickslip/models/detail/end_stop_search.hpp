@@ -6,13 +6,13 @@
 // (break-away). The mode's exact affine maps scan the step on its grid of 2^16 ticks (16 blocks,
 // then bisection down to the tick whose end leaves the mode, or, where |v_r| fell and rose again
 // inside a block, down to the tick of its turn, where v_r may cross 0 and back between the
-// block's ends); inside that tick the mode's exact
-// motion is its Taylor polynomial (order chosen in configure() so that the truncation is below
-// the scalar's rounding), on which the boundary is solved for: v_r = 0 by TaylorSegment's
-// first_crossing (a dip to 0 and back included), x_r = +-travel by TaylorSegment::edge_crossing
-// (the same root search, falling_root(), on x_r - travel). Break-away is solved for directly (F_L
-// is linear in time). A position inside the step is whole ticks plus a fraction of the next, so the
-// step's end is reached exactly.
+// block's ends); inside that tick the mode's exact motion is its Taylor polynomial (order
+// chosen in configure() so that the truncation is below the scalar's rounding), on which the
+// boundary is solved for: v_r = 0 by TaylorSegment's first_crossing (a dip to 0 and back
+// included), x_r = +-travel by TaylorSegment::edge_crossing (the same root search,
+// falling_root(), on x_r - travel). Break-away is solved for directly (F_L is linear in time). A
+// position inside the step is whole ticks plus a fraction of the next, so the step's end is
+// reached exactly.
 //
 // Loop bounds (the step's work): at most kMaxEventsPerStep events; per event one scan of at most
 // 16 blocks, one bisection of 12 levels, one Taylor tick (its root searches run at most

@@ -562,7 +562,12 @@ class EndStopOscillator {
   Boundary move_to_mode_end(const Input& in, Position& pos, bool detect) noexcept;
   Boundary leave_at_tick(const Input& in, unsigned lo, T x, T v, T xn, T vn,
                          Position& pos) noexcept;
-  bool dips(const Input& in, T x, T v, unsigned at, T xn, T vn, unsigned next) const noexcept;
+  bool dips(const Input& in, T x, T v, unsigned at, unsigned next, T a_start,
+            T a_end) const noexcept;
+  // a_r d at (x, v) and tick `at` in the current slip: negative where |v_r| falls.
+  T acceleration_along_slip(T x, T v, unsigned at, const Input& in) const noexcept {
+    return (seat_acceleration(x, v) - in.at(T(at) * tick_fraction_)) * direction_;
+  }
   Boundary within_tick(const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept;
   Boundary within_tick_taylor(const Input& in, Position& pos, T& x, T& v,
                               bool detect) const noexcept;

@@ -169,7 +169,11 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
   // (k/m) a_r = 0 (the input's slope and the friction are constant over the piece), whose zeros
   // lie pi/omega_d >= 2 dt apart (configure(): omega0 dt <= pi/2, free and in contact). So one
   // dipping block is searched, and the scan runs at most twice: before it and after it.
-  bool dip_searched = false;
+  // The search for a dip needs a_r at a block's end only where |v_r| falls at its start, and the
+  // end of one block is the start of the next: at most one a_r a block.
+  bool dip_searched = !(kSticking && detect);
+  T a_start = T(0);
+  bool a_start_known = false;
   for (int scan = 0; scan < 2 && end < kTicks; ++scan) {
     unsigned next = end;
     T xn = x, vn = v;
@@ -180,9 +184,17 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
         const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
         return leave_at_tick(in, lo, x, v, xn, vn, pos);
       }
-      if (detect && !dip_searched && dips(in, x, v, end, xn, vn, next)) {
-        dipping = true;
-        break;
+      if (kSticking && !dip_searched) {
+        if (!a_start_known) a_start = acceleration_along_slip(x, v, end, in);
+        a_start_known = a_start < T(0);
+        if (a_start_known) {
+          const T a_end = acceleration_along_slip(xn, vn, next, in);
+          if (dips(in, x, v, end, next, a_start, a_end)) {
+            dipping = true;
+            break;
+          }
+          a_start = a_end;
+        }
       }
       x = xn;
       v = vn;
@@ -191,7 +203,7 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
     if (!dipping) break;
     dip_searched = true;
     unsigned lo = end, hi = next;
-    T xl = x, vl = v;
+    T xl = x, vl = v, a_lo = a_start;
     while (hi - lo > 1) {
       const unsigned mid = lo + (hi - lo) / 2;
       T xm, vm;
@@ -199,12 +211,14 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
         lo = first_tick_leaving_mode(in, lo, mid, xl, vl, xm, vm);
         return leave_at_tick(in, lo, xl, vl, xm, vm, pos);
       }
-      if (dips(in, xl, vl, lo, xm, vm, mid)) {
+      const T a_mid = acceleration_along_slip(xm, vm, mid, in);
+      if (dips(in, xl, vl, lo, mid, a_lo, a_mid)) {
         hi = mid;
       } else {
         lo = mid;
         xl = xm;
         vl = vm;
+        a_lo = a_mid;
       }
     }
     Position at{lo, T(0)};
@@ -262,24 +276,16 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::leave_at
   return found;
 }
 
-// Slipping from (x, v) at tick `at` to (xn, vn) at tick `next` without leaving the mode: whether
-// |v_r| fell and rose again in between (a_r d < 0 at the start, > 0 at the end), so that v_r may
-// have crossed 0 and back. A block that starts at rest to within the rounding of its terms (a
-// slip's start, a_r d >= 0 to rounding) is no dip (see rest_rounding_velocity()).
+// A block of the slip from (x, v) at tick `at` to tick `next` that does not leave the mode, with
+// a_r d at its ends (acceleration_along_slip()): whether |v_r| fell and rose again in between
+// (a_r d < 0 at the start, > 0 at the end), so that v_r may have crossed 0 and back. A block that
+// starts at rest to within the rounding of its terms (a slip's start, a_r d >= 0 to rounding) is
+// no dip (see rest_rounding_velocity()).
 template <typename T, typename Law>
-bool EndStopOscillator<T, Law>::dips(const Input& in, T x, T v, unsigned at, T xn, T vn,
-                                     unsigned next) const noexcept {
-  if constexpr (kSticking) {
-    const T d = direction_;
-    if (d == T(0) || !((seat_acceleration(x, v) - in.at(T(at) * tick_fraction_)) * d < T(0))) {
-      return false;
-    }
-    if (S::abs(v) <= rest_rounding_velocity(x, at, next - at, in)) return false;
-    return (seat_acceleration(xn, vn) - in.at(T(next) * tick_fraction_)) * d > T(0);
-  } else {
-    (void)in, (void)x, (void)v, (void)at, (void)xn, (void)vn, (void)next;
-    return false;
-  }
+bool EndStopOscillator<T, Law>::dips(const Input& in, T x, T v, unsigned at, unsigned next,
+                                     T a_start, T a_end) const noexcept {
+  return a_start < T(0) && a_end > T(0) &&
+         !(S::abs(v) <= rest_rounding_velocity(x, at, next - at, in));
 }
 
 // From pos to the end of its tick, or (with `detect`) to the first boundary inside it: returns

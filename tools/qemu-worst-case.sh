@@ -36,8 +36,7 @@ readonly kLimitM4f=3990
 readonly kMaxRatioM0plus=5
 
 # The seat with end stops, on its own hardest set (--seat end-stops): Cortex-M0+ 24,640 measured,
-# Cortex-M4F 20,560 (steps of several events at a stop, a release and a new contact among them,
-# and on the M4F a scan block where v_r dips, bisected to the tick of its turn).
+# Cortex-M4F 20,560 (steps of several events at a stop, a release and a new contact among them).
 readonly kLimitM0plusEndStops=25790
 readonly kLimitM4fEndStops=21580
 

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <random>
 #include <vector>
 
 #include "../core/oracles.hpp"
@@ -39,6 +40,16 @@ inline std::vector<double> floor_signal(host::SignalKind kind, double rms, doubl
 
 inline std::vector<double> wideband(double rms, double duration_s, std::uint64_t seed) {
   return floor_signal(host::SignalKind::wideband, rms, kDt, seed, 0.0, duration_s);
+}
+
+// White noise, a new level every sample, uniform in +-level_m_per_s2 (20,001 samples: 20 s at
+// kDt): the floor on which v_r crosses 0 and back inside one step.
+inline std::vector<double> white_noise(double level_m_per_s2, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> level(-level_m_per_s2, level_m_per_s2);
+  std::vector<double> a_u(20001);
+  for (double& a : a_u) a = level(rng);
+  return a_u;
 }
 
 inline OscillatorParams seat(FrictionModel model, double damping, double kinetic_n,

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
-#include <random>
 #include <vector>
 
 #include "../core/oracles.hpp"
@@ -146,10 +145,7 @@ TEST(EndStopExactness, StopsOutOfReachEqualThePlainOscillatorWhereVrDipsThroughZ
   int dips = 0;
   for (const double damping : {0.0, 504.0}) {
     for (std::uint64_t seed = 1; seed <= 6; ++seed) {
-      std::mt19937_64 rng(seed);
-      std::uniform_real_distribution<double> level(-30.0, 30.0);
-      std::vector<double> a_u(20001);
-      for (double& a : a_u) a = level(rng);
+      const std::vector<double> a_u = white_noise(30.0, seed);
       const OscillatorParams coulomb = seat(FrictionModel::stick_slip, damping, 25.0, 30.0);
       worst = std::max(worst, out_of_reach_x_difference<CoulombStickSlip>(coulomb, a_u, dips));
       OscillatorParams stribeck = seat(FrictionModel::stribeck, damping, 25.0, 30.0);

@@ -170,10 +170,7 @@ double largest_x_difference(const History& got, const History& want) {
 TEST(EndStopQ724, StopsOutOfReachFollowDoubleAsThePlainQ724SeatWhereVrDipsThroughZero) {
   for (const double damping : {0.0, 504.0}) {
     for (std::uint64_t seed = 1; seed <= 6; ++seed) {
-      std::mt19937_64 rng(seed);
-      std::uniform_real_distribution<double> level(-12.0, 12.0);
-      std::vector<double> a_u(20001);
-      for (double& a : a_u) a = level(rng);
+      const std::vector<double> a_u = white_noise(12.0, seed);
       const OscillatorParams p = q724_seat(FrictionModel::stick_slip, damping, 25.0, 30.0);
       const Runs r = run_all<CoulombStickSlip>(p, stops(0.09, 2.0e3), a_u);
       const double spread = largest_x_difference(r.plain, r.plain_double);

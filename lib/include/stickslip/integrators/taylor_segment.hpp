@@ -206,7 +206,10 @@ struct FallingRoot {
 // by zero). With f'' = sign * curvature known, Newton's error after a step s is about
 // |f''/(2 f')| s^2: once that is below a few ulp of the interval the step is the answer,
 // without another evaluation to confirm it; otherwise it stops when the step is that small, or
-// the bracket is within its tolerance, after at most kMaxRootIterations<T> iterations.
+// the bracket is within its tolerance, after at most kMaxRootIterations<T> iterations. The
+// bisections after the Newton phase are a loop of their own that evaluates f alone, so that a
+// static bound charges them one evaluation each, not Newton's three (port/baremetal/
+// loop-bounds.json).
 template <typename T>
 FallingRoot<T> falling_root(const PaddedPolynomial<T>& p, const PaddedPolynomial<T>& slope,
                             const PaddedPolynomial<T>* curvature, T sign, T lo, T hi, T at_lo,
@@ -216,7 +219,7 @@ FallingRoot<T> falling_root(const PaddedPolynomial<T>& p, const PaddedPolynomial
   const T inv_tolerance = tolerance > T(0) ? T(1) / tolerance : T(0);
   T u = falling_root_first_iterate(slope, curvature, sign, lo, hi, at_lo, at_hi);
   int iteration = 0;
-  while (iteration < kMaxRootIterations<T>) {
+  while (iteration < kRootNewtonIterations) {
     ++iteration;
     const T value = sign * p(u);
     const T gradient = sign * slope(u);
@@ -226,8 +229,7 @@ FallingRoot<T> falling_root(const PaddedPolynomial<T>& p, const PaddedPolynomial
     hi = value < T(0) ? u : hi;
     // Newton's step -value/gradient stays inside (lo, hi) iff -value lies strictly between
     // gradient (hi - u) and gradient (lo - u) (gradient < 0: f falls through its root).
-    if (iteration <= kRootNewtonIterations && gradient < T(0) && -value < gradient * (lo - u) &&
-        -value > gradient * (hi - u)) {
+    if (gradient < T(0) && -value < gradient * (lo - u) && -value > gradient * (hi - u)) {
       const T step = -value / gradient;
       const T next = u + step;
       // |f''| s^2 <= 2 |f'| tolerance (as (|f''| |s|) (|s| / tolerance), so that no tiny
@@ -242,6 +244,15 @@ FallingRoot<T> falling_root(const PaddedPolynomial<T>& p, const PaddedPolynomial
     } else {
       u = lo + (hi - lo) * T(0.5);
     }
+    if (hi - lo <= tolerance) return {u, iteration};
+  }
+  while (iteration < kMaxRootIterations<T>) {
+    ++iteration;
+    const T value = sign * p(u);
+    if (value == T(0)) return {u, iteration};
+    lo = value > T(0) ? u : lo;
+    hi = value < T(0) ? u : hi;
+    u = lo + (hi - lo) * T(0.5);
     if (hi - lo <= tolerance) break;
   }
   return {u, iteration};

@@ -22,7 +22,10 @@ Bounds file (JSON):
      among the function's loop headers in address order, "bound": an integer or an expression of
      integers and constants (+ - * // ** and parentheses): the most times the loop's body runs
      per entry (its back edge is taken fewer times), "per_call": true when the bound holds for
-     all entries in one call of the function together, "why": the reason}
+     all entries in one call of the function together and counts every run of the body, one
+     that leaves it from inside included (each run is then charged the longer of a turn and a
+     way out through the body, once per call, and each entry the header's test alone), "why":
+     the reason}
   and "arguments": {ROUTINE: {"register": "r2", "at_most": N}}: every reachable call of ROUTINE
     must set that register to a constant <= N in the calling block (the lengths the routine's
     loop bounds assume).
@@ -314,20 +317,30 @@ def longest(function, costs, bounds_of, report, functions_name=lambda address: h
                    default=0)
         per_call_bound = bound
         if per_call:
-            # The bound holds for all entries of one call together: its turns are added once to
-            # the function's total, and each entry is taken as its way out alone.
+            # The bound holds for all entries of one call together and counts every run of the
+            # body, a partial one that leaves it from inside included: each run is charged the
+            # longer of a turn and a way out through the body, once per call of the function,
+            # and each entry only the header's own way out (its test that ends the loop).
+            partial = max([dist[n] + w for n in body if n != header
+                           for s, w in edges[n].items() if s not in body] +
+                          [dist[n] + exits[n] for n in body if n != header and n in exits],
+                          default=0)
+            turn = max(turn, partial)
             per_call_extra += bound * turn
             bound = 0
         node = ("loop", header)
         node_cost[node] = 0
         edges[node] = {}
         for n in body:
+            # With a per-call bound a way out from inside the body is a run already charged.
+            inside = per_call and n != header
             for s, w in edges[n].items():
                 if s not in body:
-                    weight = bound * turn + dist[n] + w
+                    weight = 0 if inside else bound * turn + dist[n] + w
                     edges[node][s] = max(edges[node].get(s, 0), weight)
             if n in exits:
-                exits[node] = max(exits.get(node, 0), bound * turn + dist[n] + exits[n])
+                weight = 0 if inside else bound * turn + dist[n] + exits[n]
+                exits[node] = max(exits.get(node, 0), weight)
         for p in list(edges):
             if p in body or p == node:
                 continue

@@ -23,10 +23,14 @@
 //     kMaxEventsPerStep = 32 for Stribeck;
 //   - slip()'s block walk: at most 2^(L+1) - 1 block maps per step over all its calls, since the
 //     walk only moves forward and evaluates each dyadic block of the step at most once (it starts
-//     at a position only on blocks that start there); lowest_set_bit(): at most L shifts;
+//     at a position only on blocks that start there); every run of its body maps a block before
+//     it can return an event, so the body runs at most that often per step, the runs that return
+//     included (the static bound charges them once per step, port/baremetal/loop-bounds.json);
+//     lowest_set_bit(): at most L shifts;
 //   - finish_tick_taylor(): at most 2 passes (the second after the start guard), once per slip
 //     phase; TaylorSegment::first_crossing(): at most two root searches (a dip's minimum and its
-//     root) of at most kMaxRootIterations<T> iterations each (38 in float, 67 in double);
+//     root) of at most kMaxRootIterations<T> iterations each (38 in float, 67 in double: Newton's,
+//     then a loop of bisections);
 //     proportion(): F shift-and-subtract rounds (fixed point);
 //   - Q7.24: no block walk; finish_tick_cubic() once per slip phase, its root search at most
 //     kCubicRootNewtonSteps Newton steps from the root of its quadratic part (and one

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 
 namespace stickslip {
 
@@ -52,6 +53,34 @@ inline constexpr int kMaxEventsPerStep = 32;
 // reverses), a return to rest that sticks, a break-away towards s: 3 events.
 // tests/core/test_stick_slip.cpp counts them on a run 32 times finer, up to omega0 dt = pi/2.
 inline constexpr int kMaxEventsOfTheExactSolutionPerStep = 3;
+
+// The loops of a step whose trip counts the static bound takes per step or per call rather than
+// per entry (port/baremetal/loop-bounds.json): a law that declares
+// `static void count_loop_run(LoopRun) noexcept` is told of every run of their bodies, and of each
+// call of the end-stop search's move to a mode's end, so that a test can count them
+// (tests/core/test_loop_runs.cpp). For every other law the call compiles to nothing.
+enum class LoopRun : std::uint8_t {
+  block_walk,     // Oscillator: one run of slip()'s block walk
+  mode_search,    // EndStopOscillator: a call of move_to_mode_end() begins
+  scan_block,     // EndStopOscillator: one run of the scan, one block
+  dip_bisection,  // EndStopOscillator: one halving of the block where |v_r| dips
+};
+
+namespace law_detail {
+template <typename Law, typename = void>
+inline constexpr bool kCountsLoopRuns = false;
+template <typename Law>
+inline constexpr bool kCountsLoopRuns<Law, std::void_t<decltype(&Law::count_loop_run)>> = true;
+
+template <typename Law>
+inline void count_loop_run(LoopRun run) noexcept {
+  if constexpr (kCountsLoopRuns<Law>) {
+    Law::count_loop_run(run);
+  } else {
+    (void)run;
+  }
+}
+}  // namespace law_detail
 
 // Every count stays 0 for an accepted configuration driven by finite input; a non-zero count says
 // which guard kept the run finite and bounded.

@@ -153,6 +153,7 @@ bool EndStopOscillator<T, Law>::break_away(const Input& in, Position& pos,
 template <typename T, typename Law>
 typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_mode_end(
     const Input& in, Position& pos, bool detect) noexcept {
+  law_detail::count_loop_run<Law>(LoopRun::mode_search);
   T x = x_, v = v_;
   if (pos.frac > T(0)) {
     const Boundary inside = within_tick(in, pos, x, v, detect);
@@ -179,6 +180,7 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
     T xn = x, vn = v;
     bool dipping = false;
     while (end < kTicks) {
+      law_detail::count_loop_run<Law>(LoopRun::scan_block);
       next = (end / kScanBlock + 1) * kScanBlock;
       if (span_leaves_mode(in, x, v, end, next - end, xn, vn, true) && detect) {
         const unsigned lo = first_tick_leaving_mode(in, end, next, x, v, xn, vn);
@@ -205,6 +207,7 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::move_to_
     unsigned lo = end, hi = next;
     T xl = x, vl = v, a_lo = a_start;
     while (hi - lo > 1) {
+      law_detail::count_loop_run<Law>(LoopRun::dip_bisection);
       const unsigned mid = lo + (hi - lo) / 2;
       T xm, vm;
       if (span_leaves_mode(in, xl, vl, lo, mid - lo, xm, vm, false)) {

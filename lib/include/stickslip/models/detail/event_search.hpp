@@ -277,6 +277,7 @@ inline bool Oscillator<T, Law>::slip(Position& pos, T& x, T& v, T d, const Input
     }
   }
   while (pos.tick < ticks_per_step_) {
+    law_detail::count_loop_run<Law>(LoopRun::block_walk);
     // The largest dyadic block aligned at pos.tick (the whole step from the start).
     int level = pos.tick == 0u ? 0 : event_level_ - lowest_set_bit(pos.tick);
     const T force_start = force(v);

@@ -1,0 +1,185 @@
+// The trip counts that the static bound of a step takes per step or per call rather than per
+// entry (port/baremetal/loop-bounds.json, tools/elf-wcet.py "per_call"), counted by laws that
+// declare count_loop_run() (step_common.hpp), on random seats and floors that reach them:
+//   - slip()'s block walk (Oscillator): at most 2^(L+1) - 1 runs of its body per step over all its
+//     calls, a run that returns an event included (event_search.hpp), and exactly 1 for L = 0,
+//     the firmware's plan, in the steps with several events too;
+//   - the end-stop scan (EndStopOscillator::move_to_mode_end()): at most 16 blocks per call over
+//     its two scans together, the runs that leave the mode included, and its dip bisection at
+//     most kEventLevels - 4 = 12 halvings per call, reached.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "CppUTest/TestHarness.h"
+#include "stickslip/integrators/step_map.hpp"
+#include "stickslip/models/end_stops.hpp"
+#include "stickslip/models/oscillator.hpp"
+
+using namespace stickslip;
+
+namespace {
+
+struct LoopTally {
+  long walk = 0;  // block-walk runs in the current step
+  long scan = 0;  // scan runs in the current move_to_mode_end() call
+  long dip = 0;   // dip halvings in the current call
+  long scan_after_dip = 0;
+  long most_scan = 0, most_dip = 0;
+  long calls_with_a_second_scan = 0, most_scan_with_a_second_scan = 0;
+
+  void end_call() {
+    most_scan = std::max(most_scan, scan);
+    most_dip = std::max(most_dip, dip);
+    if (scan_after_dip > 0) {
+      ++calls_with_a_second_scan;
+      most_scan_with_a_second_scan = std::max(most_scan_with_a_second_scan, scan);
+    }
+    scan = dip = scan_after_dip = 0;
+  }
+};
+
+LoopTally tally;
+
+template <typename Law>
+struct Counting : Law {
+  static void count_loop_run(LoopRun run) noexcept {
+    switch (run) {
+      case LoopRun::block_walk:
+        ++tally.walk;
+        break;
+      case LoopRun::mode_search:
+        tally.end_call();
+        break;
+      case LoopRun::scan_block:
+        ++tally.scan;
+        if (tally.dip > 0) ++tally.scan_after_dip;
+        break;
+      case LoopRun::dip_bisection:
+        ++tally.dip;
+        break;
+    }
+  }
+};
+
+struct WalkTally {
+  long most_per_step = 0;
+  long steps_with_several_events = 0;
+  long steps_over_bound = 0;
+};
+
+// A random seat: m 40-140 kg, k 3e3-1e5 N/m, damped or not, F_fs up to 1.5 F_fk, its step set by
+// omega0 dt in (0.01, 1.5), so that the plan's level L runs from 0 up.
+OscillatorParams random_seat(std::mt19937_64& rng, int n) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  OscillatorParams p;
+  p.mass_kg = 40.0 + 100.0 * u(rng);
+  p.stiffness_n_per_m = 3e3 * std::pow(10.0, 1.5 * u(rng));
+  p.damping_ns_per_m = n % 2 == 0 ? 0.0 : 2000.0 * u(rng);
+  p.kinetic_friction_n = 5.0 + 60.0 * u(rng);
+  p.static_friction_n = p.kinetic_friction_n * (1.0 + 0.5 * u(rng));
+  p.dt_s = (0.01 + 1.49 * u(rng)) / std::sqrt(p.stiffness_n_per_m / p.mass_kg);
+  p.integrator = Integrator::exact;
+  return p;
+}
+
+// White noise (a new level every sample) or a random phase each sample: F_L jumps by several
+// F_fs from step to step, so that steps hold several events.
+std::vector<double> hostile_floor(std::mt19937_64& rng, int n, std::size_t samples) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double level = 1.0 + 40.0 * u(rng);
+  std::vector<double> a(samples);
+  for (double& x : a)
+    x = n % 3 == 0 ? level * (2.0 * u(rng) - 1.0) : level * std::sin(6.3 * u(rng));
+  return a;
+}
+
+template <typename T, typename Law>
+void walk_runs(const OscillatorParams& p, const std::vector<double>& floor, WalkTally& out,
+               int& level) {
+  Oscillator<T, Counting<Law>> seat;
+  CHECK_TRUE(seat.configure(p).ok());
+  level = seat.event_search().tick_level;
+  const long bound = (2L << level) - 1;
+  for (double a : floor) {
+    tally.walk = 0;
+    const StepOutput<T> out_step = seat.step(static_cast<T>(a));
+    if (tally.walk > bound) ++out.steps_over_bound;
+    if (level == 0) out.most_per_step = std::max(out.most_per_step, tally.walk);
+    if (level == 0 && out_step.events >= 2) ++out.steps_with_several_events;
+  }
+}
+
+template <typename T, typename Law>
+void end_stop_runs(const OscillatorParams& p, const EndStopParams& s,
+                   const std::vector<double>& floor) {
+  EndStopOscillator<T, Counting<Law>> seat;
+  CHECK_TRUE(seat.configure(p, s).ok());
+  for (double a : floor) seat.step(static_cast<T>(a));
+  tally.end_call();
+}
+
+}  // namespace
+
+TEST_GROUP(LoopRuns){void setup() override{tally = LoopTally{};
+}
+}
+;
+
+TEST(LoopRuns, TheBlockWalkRunsAtMostTwoToTheLPlusOneLessOneTimesAStepAndOnceAtLevelZero) {
+  std::mt19937_64 rng(20261130);
+  WalkTally walk;
+  int levels_seen = 0, most_level = 0;
+  for (int n = 0; n < 120; ++n) {
+    OscillatorParams p = random_seat(rng, n);
+    // Every fourth seat on the firmware's plan: the reference seat at dt = 1 ms (L = 0).
+    if (n % 4 == 0) {
+      p.mass_kg = 88.4;
+      p.stiffness_n_per_m = 11500.0;
+      p.dt_s = 1e-3;
+    }
+    const std::vector<double> floor = hostile_floor(rng, n, 4000);
+    int level = 0;
+    p.model = FrictionModel::stick_slip;
+    walk_runs<double, CoulombStickSlip>(p, floor, walk, level);
+    walk_runs<float, CoulombStickSlip>(p, floor, walk, level);
+    p.model = FrictionModel::stribeck;
+    walk_runs<double, StribeckStickSlip>(p, floor, walk, level);
+    walk_runs<float, StribeckStickSlip>(p, floor, walk, level);
+    levels_seen |= 1 << std::min(level, 30);
+    most_level = std::max(most_level, level);
+  }
+  LONGS_EQUAL(0, walk.steps_over_bound);
+  LONGS_EQUAL(1, walk.most_per_step);  // L = 0: one run, reached, in steps of several events too
+  CHECK_TRUE(walk.steps_with_several_events > 100);
+  CHECK_TRUE((levels_seen & 1) != 0);
+  CHECK_TRUE(most_level >= 6);
+}
+
+TEST(LoopRuns, TheEndStopScanRunsSixteenBlocksACallOverBothScansAndItsDipBisectionTwelve) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int n = 0; n < 60; ++n) {
+    OscillatorParams p = random_seat(rng, n);
+    p.dt_s = n % 3 == 0 ? 5e-4 : (n % 3 == 1 ? 1e-3 : 2e-3);
+    if (std::sqrt(p.stiffness_n_per_m / p.mass_kg) * p.dt_s > 1.4) p.stiffness_n_per_m = 3e3;
+    EndStopParams s;
+    s.travel_m = 0.002 + 0.03 * u(rng);
+    s.stiffness_n_per_m = 3e4 * std::pow(10.0, 1.5 * u(rng));
+    s.damping_ns_per_m = n % 4 < 2 ? 0.0 : 3000.0 * u(rng);
+    const std::vector<double> floor = hostile_floor(rng, n, 3000);
+    p.model = FrictionModel::stick_slip;
+    end_stop_runs<double, CoulombStickSlip>(p, s, floor);
+    end_stop_runs<float, CoulombStickSlip>(p, s, floor);
+    p.model = FrictionModel::stribeck;
+    end_stop_runs<double, StribeckStickSlip>(p, s, floor);
+    end_stop_runs<float, StribeckStickSlip>(p, s, floor);
+  }
+  LONGS_EQUAL(16, tally.most_scan);
+  LONGS_EQUAL(kEventLevels - 4, tally.most_dip);
+  // The per-call count holds where a dip split the scan in two, and such calls are many.
+  CHECK_TRUE(tally.calls_with_a_second_scan > 100);
+  CHECK_TRUE(tally.most_scan_with_a_second_scan <= 16);
+}

@@ -53,6 +53,31 @@ EdgeRoot<T> cubic_edge_root(const CubicSegment<T>& segment, T edge, T s, T hi, T
   T lo = T(0);
   T u = hi * S::proportion(-f_lo, f_hi - f_lo);
   int iteration = 0;
+  // Newton's iterations, then the midpoints in a loop of their own that evaluates x_r alone, so
+  // that a static bound charges them one evaluation each, not Newton's v_r and proportion too
+  // (port/baremetal/loop-bounds.json).
+  while (iteration < kCubicStrokeNewtonSteps) {
+    ++iteration;
+    const T f = s * (segment.position(u) - edge);
+    if (S::abs(f) <= S::epsilon()) return {u, iteration};
+    if (f > T(0)) {
+      hi = u;
+    } else {
+      lo = u;
+    }
+    if (hi - lo <= S::epsilon()) return {u, iteration};
+    T next = lo;
+    // Newton's step where it lands inside the bracket (x_r s rises: slope > 0).
+    const T slope = s * segment.velocity(u);
+    const T size = S::abs(f);
+    if (slope > T(0) && size <= slope) {
+      const T change = S::proportion(size, slope);
+      next = f > T(0) ? u - change : u + change;
+    }
+    if (!(next > lo && next < hi)) next = lo + S::divide_by_power_of_two(hi - lo, 1);
+    if (next == u) return {u, iteration};
+    u = next;
+  }
   while (iteration < kMaxIterations) {
     ++iteration;
     const T f = s * (segment.position(u) - edge);
@@ -63,17 +88,7 @@ EdgeRoot<T> cubic_edge_root(const CubicSegment<T>& segment, T edge, T s, T hi, T
       lo = u;
     }
     if (hi - lo <= S::epsilon()) break;
-    T next = lo;
-    if (iteration <= kCubicStrokeNewtonSteps) {
-      // Newton's step where it lands inside the bracket (x_r s rises: slope > 0).
-      const T slope = s * segment.velocity(u);
-      const T size = S::abs(f);
-      if (slope > T(0) && size <= slope) {
-        const T change = S::proportion(size, slope);
-        next = f > T(0) ? u - change : u + change;
-      }
-    }
-    if (!(next > lo && next < hi)) next = lo + S::divide_by_power_of_two(hi - lo, 1);
+    const T next = lo + S::divide_by_power_of_two(hi - lo, 1);
     if (next == u) break;
     u = next;
   }

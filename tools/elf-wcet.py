@@ -26,6 +26,11 @@ Bounds file (JSON):
      that leaves it from inside included (each run is then charged the longer of a turn and a
      way out through the body, once per call, and each entry the header's test alone), "why":
      the reason}
+  "calls": [{"function": REGEX, "callee": REGEX, "bound": as a loop's, "why": the reason}]: the
+    function's own call sites of the callee together call it at most `bound` times per call of
+    the function (wherever they sit, in loops or not): each site is charged nothing and the
+    function bound times the callee's bound, once per call (a call-count fact, for a call that
+    only some passes of a loop make);
   and "arguments": {ROUTINE: {"register": "r2", "at_most": N}}: every reachable call of ROUTINE
     must set that register to a constant <= N in the calling block (the lengths the routine's
     loop bounds assume).
@@ -269,15 +274,26 @@ class Function:
         return loops
 
 
-def longest(function, costs, bounds_of, report, functions_name=lambda address: hex(address)):
+def longest(function, costs, bounds_of, report, functions_name=lambda address: hex(address),
+            call_bound_of=lambda function, callee: None):
     """The longest path of function, with loops collapsed innermost first."""
     loops = function.loops()
     per_call_extra = 0
+    # A callee with a call-count bound costs nothing at its sites; the function pays it that
+    # many times, once per call.
+    counted = {}
+    for v in function.blocks.values():
+        for c in v["calls"] + v["tails"]:
+            if c not in counted:
+                counted[c] = call_bound_of(function, c)
+    for c, calls in counted.items():
+        if calls is not None:
+            per_call_extra += calls * costs[c]
     # Nodes: blocks; edges with weights; node cost = block cost + its calls' bounds.
     node_cost = {}
     for b, v in function.blocks.items():
-        node_cost[b] = v["cost"] + sum(costs[c] for c in v["calls"]) + sum(costs[c] for c in
-                                                                           v["tails"])
+        node_cost[b] = v["cost"] + sum(costs[c] for c in v["calls"] + v["tails"]
+                                       if counted[c] is None)
     edges = {b: {s: 0 for s in v["successors"]} for b, v in function.blocks.items()}
     exits = {b: 0 for b, v in function.blocks.items() if v["exits"]}
     members = {b: {b} for b in function.blocks}  # node -> blocks it stands for
@@ -494,6 +510,9 @@ def main():
         constants[name] = int(value)
     table = target.get("loops", [])
     used = set()
+    call_table = target.get("calls", [])
+    calls_used = set()
+    call_facts = {}  # (function, callee) -> its row in the report
 
     def bounds_of(function, ordinal, header):
         for k, entry in enumerate(table):
@@ -506,6 +525,19 @@ def main():
             return 1, False
         fail(f"{function.name}: loop {ordinal} at {header:#x} has no bound in "
              f"{args.bounds or 'a bounds file'}")
+
+    def call_bound_of(function, callee):
+        for k, entry in enumerate(call_table):
+            if re.match(entry["function"], function.name) and \
+                    re.match(entry["callee"], info[callee]["name"]):
+                calls_used.add(k)
+                bound = evaluate(entry["bound"], constants,
+                                 f"{args.bounds}: {entry['function']} calls {entry['callee']}")
+                call_facts[(function.name, callee)] = {
+                    "function": function.name, "callee": info[callee]["name"], "bound": bound,
+                    "why": entry.get("why", "")}
+                return bound
+        return None
 
     functions, order = {}, []
 
@@ -538,7 +570,8 @@ def main():
     costs, loops = {}, []
     for address in order:
         costs[address] = longest(functions[address], costs, bounds_of, loops,
-                                 lambda c: re.sub(r"^_ZN?K?9stickslip", "", info[c]["name"])[:40])
+                                 lambda c: re.sub(r"^_ZN?K?9stickslip", "", info[c]["name"])[:40],
+                                 call_bound_of)
     if args.list_loops:
         json.dump(loops, sys.stdout, indent=1)
         sys.stdout.write("\n")
@@ -548,6 +581,11 @@ def main():
         if analysed and k not in used:
             fail(f"{args.bounds}: {args.target}: no loop matches {entry['function']} header "
                  f"{entry['header']}: the code changed, so the table must be checked again")
+    for k, entry in enumerate(call_table):
+        analysed = any(re.match(entry["function"], f.name) for f in functions.values())
+        if analysed and k not in calls_used:
+            fail(f"{args.bounds}: {args.target}: {entry['function']} makes no call that matches "
+                 f"{entry['callee']}: the code changed, so the table must be checked again")
     for entry in loops:
         for k, row in enumerate(table):
             if re.match(row["function"], entry["function"]) and row["header"] == entry["header"]:
@@ -558,7 +596,9 @@ def main():
     json.dump({"root": args.root, "instructions_bound": costs[by_name[args.root]],
                "constants": constants,
                "functions": {functions[a].name: costs[a] for a in order},
-               "loops": loops}, sys.stdout, indent=1)
+               "loops": loops,
+               "calls": [dict(fact, callee_bound=costs[callee])
+                         for (_, callee), fact in call_facts.items()]}, sys.stdout, indent=1)
     sys.stdout.write("\n")
 
 

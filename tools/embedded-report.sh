@@ -444,7 +444,9 @@ w("**The bound.** Every loop of the step has a fixed trip count, stated in "
   "(L up to 16 by the seat's rate, at most 2^(L+1) - 1 block maps per step, and as many runs "
   "of the block walk's body, those that return an event included: CTest `LoopRuns.*` counts "
   "them, and the end-stop scan's per call; L = 0 for the firmware's seat, which the firmware "
-  "fixes at build time, below) and its root search runs at "
+  "fixes at build time, below), searches a tick's polynomial at most (kEventBudget - 1) + 2^L "
+  "times a step (3 at L = 0, in Q7.24 too: `LoopRuns.*` counts them and reaches that; "
+  "`event_search.hpp` says why) and its root search runs at "
   "most `kMaxRootIterations<float>` = 38 iterations per root: Newton's in the first "
   "`kRootNewtonIterations` = 16, then a loop of bisections, of which 22 bring any bracket "
   "within the search's tolerance, 4 eps (lo + hi) (`integrators/taylor_segment.hpp`; CTest "
@@ -483,7 +485,9 @@ w("`tools/elf-wcet.py` derives these from the firmware's disassembly (the QEMU b
   "read from the source (`kCubicRootNewtonSteps`, `kMaxEventsOfTheExactSolutionPerStep`, "
   "`max_gap`, ...). The bound is the longest path through each function, one per instruction "
   "(what QEMU's `-icount` counts), with every loop run to its bound by its longest turn and every "
-  "call taken at its callee's bound. A loop without a bound, an indirect branch or call, a jump "
+  "call taken at its callee's bound, or, where the table states how often a function calls a "
+  "callee at most (`\"calls\"`: a call that only some passes of a loop make), at its callee's "
+  "bound that many times per call of the function. A loop without a bound, an indirect branch or call, a jump "
   "table, a loop that is not natural, a library routine called with a length its loop bounds do "
   "not cover (memcpy, memset), or a bound that no longer matches a loop of the code fails the "
   "analysis (CTest `embedded.cross_builds_without_heap`, `tools/check-embedded.sh`) rather than "
@@ -505,12 +509,25 @@ for preset, heading in (
         w(f"| `{short_name(loop['function'])}` | {loop['header']} | {loop['bound']:,}"
           f"{' per call' if loop.get('per_call') else ''} | {loop['turn']:,} | {loop.get('why', '')} |")
     w("")
+    facts = wcet[preset]["gap"].get("calls", [])
+    if facts:
+        w("Its calls counted per call of the caller rather than per call site:")
+        w("")
+        w("| function | calls | at most, per call | the callee's bound | why |")
+        w("|---|---|---|---|---|")
+        for fact in facts:
+            w(f"| `{short_name(fact['function'])}` | `{short_name(fact['callee'])}` | "
+              f"{fact['bound']:,} | {fact['callee_bound']:,} | {fact.get('why', '')} |")
+        w("")
 m4_frame = wcet["cortex-m4f"]["frame"]["instructions_bound"]
 m4_hard = int(hard.get("cortex-m4f", {}).get("instructions_per_frame_max", 0))
 m4_constants = wcet["cortex-m4f"]["frame"]["constants"]
 m4_root_turns = sorted(loop["turn"] for loop in wcet["cortex-m4f"]["frame"]["loops"]
                        if "falling_root" in loop["function"])
 m4_root_turn, m4_bisection_turn = m4_root_turns[-1], m4_root_turns[0]
+m4_searches = [fact for fact in wcet["cortex-m4f"]["frame"].get("calls", [])
+               if "first_crossing" in fact["callee"]]
+m4_searches_per_step = m4_searches[0]["bound"] if m4_searches else 0
 m0_step = wcet["cortex-m0plus"]["step"]["instructions_bound"]
 m0_frame = wcet["cortex-m0plus"]["frame"]["instructions_bound"]
 m0_hard = int(hard.get("cortex-m0plus", {}).get("instructions_per_frame_max", 0))
@@ -539,9 +556,12 @@ w(f"**What the bound says.** **Cortex-M0+**: no frame that follows no gap takes 
   f"{m4_constants['kRootNewtonIterations']} Newton iterations (about {m4_root_turn} instructions "
   f"each: f, f' and f'') and 22 bisections (about {m4_bisection_turn} each: f alone, a loop of "
   "its own so that the analysis does not charge them Newton's evaluations), what remains is far "
-  "from tight: each of the event loop's 4 passes is charged a slip pass whose root searches (a "
-  "dip's minimum and its root) run to their bound, where the hardest set's roots take 1 or 2 "
-  "iterations from the root of the quadratic part.")
+  f"from tight: the step is charged {m4_searches_per_step} searches of a tick's polynomial (the "
+  "most a step makes, which CTest `LoopRuns.*` reaches: one per pass that slips from inside the "
+  "tick, never the first pass nor the one past the budget, and the block walk's one), each with "
+  "both root searches (a dip's minimum and its root) run to their bound, where the hardest "
+  "set's roots take 1 or 2 iterations from the root of the quadratic part; and each of the event "
+  "loop's 4 passes is charged the costliest rest of a pass.")
 w("")
 w("**Why the targets are missed.** "
   "**Cortex-M0+**: the cost of the arithmetic. A Q7.24 product is about 40 ARMv6-M instructions "

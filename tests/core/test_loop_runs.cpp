@@ -4,6 +4,9 @@
 //   - slip()'s block walk (Oscillator): at most 2^(L+1) - 1 runs of its body per step over all its
 //     calls, a run that returns an event included (event_search.hpp), and exactly 1 for L = 0,
 //     the firmware's plan, in the steps with several events too;
+//   - the searches of a tick's polynomial for v_r = 0 (Oscillator, first_crossing()): at most
+//     (kEventBudget - 1) + 2^L per step, reached at L = 0 (3, where each of the step's passes
+//     may search), in double, float and Q7.24;
 //   - the end-stop scan (EndStopOscillator::move_to_mode_end()): at most 16 blocks per call over
 //     its two scans together, the runs that leave the mode included, and its dip bisection at
 //     most kEventLevels - 4 = 12 halvings per call, reached.
@@ -14,18 +17,21 @@
 #include <vector>
 
 #include "CppUTest/TestHarness.h"
+#include "stickslip/core/fixed_point32.hpp"
 #include "stickslip/integrators/step_map.hpp"
 #include "stickslip/models/end_stops.hpp"
 #include "stickslip/models/oscillator.hpp"
+#include "stickslip/models/scaled_oscillator.hpp"
 
 using namespace stickslip;
 
 namespace {
 
 struct LoopTally {
-  long walk = 0;  // block-walk runs in the current step
-  long scan = 0;  // scan runs in the current move_to_mode_end() call
-  long dip = 0;   // dip halvings in the current call
+  long walk = 0;         // block-walk runs in the current step
+  long tick_search = 0;  // searches of a tick's polynomial in the current step
+  long scan = 0;         // scan runs in the current move_to_mode_end() call
+  long dip = 0;          // dip halvings in the current call
   long scan_after_dip = 0;
   long most_scan = 0, most_dip = 0;
   long calls_with_a_second_scan = 0, most_scan_with_a_second_scan = 0;
@@ -50,6 +56,9 @@ struct Counting : Law {
       case LoopRun::block_walk:
         ++tally.walk;
         break;
+      case LoopRun::tick_search:
+        ++tally.tick_search;
+        break;
       case LoopRun::mode_search:
         tally.end_call();
         break;
@@ -68,6 +77,9 @@ struct WalkTally {
   long most_per_step = 0;
   long steps_with_several_events = 0;
   long steps_over_bound = 0;
+  long most_searches_at_level_0 = 0;  // tick searches in one step at L = 0
+  long steps_over_search_bound = 0;
+  long most_searches_q724 = 0;
 };
 
 // A random seat: m 40-140 kg, k 3e3-1e5 N/m, damped or not, F_fs up to 1.5 F_fk, its step set by
@@ -96,19 +108,54 @@ std::vector<double> hostile_floor(std::mt19937_64& rng, int n, std::size_t sampl
   return a;
 }
 
+// The most tick searches one step makes: one per pass that slips from inside a tick, which the
+// first pass (from the step's start, not a slip's) and the pass past the budget (no search)
+// never are, and at most one per tick in the block walks, which move on past a tick searched.
+template <typename Model>
+long tick_search_bound(int level) {
+  return (Model::kEventBudget - 1) + (1L << level);
+}
+
 template <typename T, typename Law>
 void walk_runs(const OscillatorParams& p, const std::vector<double>& floor, WalkTally& out,
                int& level) {
-  Oscillator<T, Counting<Law>> seat;
+  using Model = Oscillator<T, Counting<Law>>;
+  Model seat;
   CHECK_TRUE(seat.configure(p).ok());
   level = seat.event_search().tick_level;
   const long bound = (2L << level) - 1;
+  const long searches = tick_search_bound<Model>(level);
   for (double a : floor) {
-    tally.walk = 0;
+    tally.walk = tally.tick_search = 0;
     const StepOutput<T> out_step = seat.step(static_cast<T>(a));
     if (tally.walk > bound) ++out.steps_over_bound;
+    if (tally.tick_search > searches) ++out.steps_over_search_bound;
     if (level == 0) out.most_per_step = std::max(out.most_per_step, tally.walk);
     if (level == 0 && out_step.events >= 2) ++out.steps_with_several_events;
+    if (level == 0 && Model::kEventBudget == kMaxEventsOfTheExactSolutionPerStep)
+      out.most_searches_at_level_0 = std::max(out.most_searches_at_level_0, tally.tick_search);
+  }
+}
+
+// Q7.24 in scene units: one tick per step (L = 0), its cubic searched by every pass that slips
+// in direction, the first included. The firmware's ranges (+-32.768 m/s^2, 0.1 m), the floor
+// clipped to them, and friction of at least 30 N, which Q7.24 resolves in those units.
+template <typename Law>
+void q724_runs(OscillatorParams p, const std::vector<double>& floor, WalkTally& out) {
+  p.input_range_m_per_s2 = 32.768;
+  p.displacement_range_m = 0.1;
+  p.kinetic_friction_n = std::max(p.kinetic_friction_n, 30.0);
+  p.static_friction_n = std::max(p.static_friction_n, p.kinetic_friction_n);
+  ScaledOscillator<Fixed32, Counting<Law>> seat;
+  const ConfigResult configured = seat.configure(p);
+  CHECK_TEXT(configured.ok(), configured.message.c_str());
+  const long searches = tick_search_bound<Oscillator<Fixed32, Counting<Law>>>(0);
+  const double a_unit = seat.units().acceleration_m_per_s2();
+  for (double a : floor) {
+    tally.tick_search = 0;
+    seat.step(Fixed32(std::clamp(a, -32.0, 32.0) / a_unit));
+    if (tally.tick_search > searches) ++out.steps_over_search_bound;
+    out.most_searches_q724 = std::max(out.most_searches_q724, tally.tick_search);
   }
 }
 
@@ -128,7 +175,7 @@ TEST_GROUP(LoopRuns){void setup() override{tally = LoopTally{};
 }
 ;
 
-TEST(LoopRuns, TheBlockWalkRunsAtMostTwoToTheLPlusOneLessOneTimesAStepAndOnceAtLevelZero) {
+TEST(LoopRuns, TheBlockWalkAndTheTickSearchesOfAStepKeepTheirCountsAndReachThemAtLevelZero) {
   std::mt19937_64 rng(20261130);
   WalkTally walk;
   int levels_seen = 0, most_level = 0;
@@ -145,6 +192,7 @@ TEST(LoopRuns, TheBlockWalkRunsAtMostTwoToTheLPlusOneLessOneTimesAStepAndOnceAtL
     p.model = FrictionModel::stick_slip;
     walk_runs<double, CoulombStickSlip>(p, floor, walk, level);
     walk_runs<float, CoulombStickSlip>(p, floor, walk, level);
+    if (n % 4 == 0) q724_runs<CoulombStickSlip>(p, floor, walk);
     p.model = FrictionModel::stribeck;
     walk_runs<double, StribeckStickSlip>(p, floor, walk, level);
     walk_runs<float, StribeckStickSlip>(p, floor, walk, level);
@@ -153,6 +201,11 @@ TEST(LoopRuns, TheBlockWalkRunsAtMostTwoToTheLPlusOneLessOneTimesAStepAndOnceAtL
   }
   LONGS_EQUAL(0, walk.steps_over_bound);
   LONGS_EQUAL(1, walk.most_per_step);  // L = 0: one run, reached, in steps of several events too
+  // The tick searches: within their bound at every level, which L = 0 reaches (3 with the budget
+  // of 3), in float and double and in Q7.24.
+  LONGS_EQUAL(0, walk.steps_over_search_bound);
+  LONGS_EQUAL(kMaxEventsOfTheExactSolutionPerStep, walk.most_searches_at_level_0);
+  LONGS_EQUAL(kMaxEventsOfTheExactSolutionPerStep, walk.most_searches_q724);
   CHECK_TRUE(walk.steps_with_several_events > 100);
   CHECK_TRUE((levels_seen & 1) != 0);
   CHECK_TRUE(most_level >= 6);

@@ -21,29 +21,42 @@ wcet = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(wcet)
 
 
-def function(name, costs, successors, returns):
-    """A Function of blocks named by integers: costs {block: n}, successors {block: [..]}."""
+def function(name, costs, successors, returns, calls=None):
+    """A Function of blocks named by integers: costs {block: n}, successors {block: [..]}, calls
+    {block: [callee, ..]} (callees named by strings)."""
     f = object.__new__(wcet.Function)
     f.name, f.start, f.entry = name, 0, min(costs)
-    f.blocks = {b: {"cost": c, "calls": [], "tails": [], "successors": successors.get(b, []),
-                    "exits": b in returns} for b, c in costs.items()}
+    f.blocks = {b: {"cost": c, "calls": list((calls or {}).get(b, [])), "tails": [],
+                    "successors": successors.get(b, []), "exits": b in returns}
+                for b, c in costs.items()}
     return f
 
 
-def analysed(f, bounds):
-    """The analysis's bound: bounds {header block: (bound, per_call)}."""
+def analysed(f, bounds, callees=None, call_bounds=None):
+    """The analysis's bound: bounds {header block: (bound, per_call)}, callees {callee: its
+    bound}, call_bounds {callee: the most calls per call of f} (a call-count fact)."""
     def bounds_of(function_, ordinal, header):
         return bounds[header]
-    return wcet.longest(f, {}, bounds_of, [])
+
+    def call_bound_of(function_, callee):
+        return (call_bounds or {}).get(callee)
+    return wcet.longest(f, dict(callees or {}), bounds_of, [], str, call_bound_of)
 
 
-def costliest(f, bounds):
-    """The costliest execution, by walking every one the bounds allow."""
+def costliest(f, bounds, callees=None, call_bounds=None):
+    """The costliest execution, by walking every one the bounds allow (each callee costing its
+    bound, called at most call_bounds[callee] times)."""
     loops = f.loops()
+    callees, call_bounds = callees or {}, call_bounds or {}
     best = [0]
 
-    def walk(block, cost, back_edges, runs, came_from):
+    def walk(block, cost, back_edges, runs, calls=()):
         cost += f.blocks[block]["cost"]
+        for callee in f.blocks[block]["calls"]:
+            cost += callees[callee]
+            calls = calls + (callee,)
+            if calls.count(callee) > call_bounds.get(callee, len(calls)):
+                return
         if f.blocks[block]["exits"]:
             best[0] = max(best[0], cost)
         for s in f.blocks[block]["successors"]:
@@ -62,18 +75,19 @@ def costliest(f, bounds):
                     if per_call and b_runs[header] > bound:
                         ok = False
             if ok:
-                walk(s, cost, b_edges, b_runs, block)
+                walk(s, cost, b_edges, b_runs, calls)
 
-    walk(f.entry, 0, {}, {}, None)
+    walk(f.entry, 0, {}, {})
     return best[0]
 
 
 failures = []
 
 
-def check(name, f, bounds, exact, below=None):
+def check(name, f, bounds, exact, below=None, callees=None, call_bounds=None):
     """exact: the analysis equals the costliest execution; below: it exceeds it by less."""
-    bound, worst = analysed(f, bounds), costliest(f, bounds)
+    bound = analysed(f, bounds, callees, call_bounds)
+    worst = costliest(f, bounds, callees, call_bounds)
     verdict = "ok" if bound >= worst and (bound == worst or not exact) else "FAILED"
     if below is not None and bound - worst >= below:
         verdict = f"FAILED (more than {below - 1} above)"
@@ -112,6 +126,31 @@ else:
     print(f"per-call walk: {per_call} against {per_entry} charged per pass: ok")
 # With a bound of 2 runs per call, both may return or go on.
 check("per-call walk, two runs", walk, {2: (4, False), 4: (2, True)}, exact=False, below=100)
+
+# A call that only some passes of a loop make, with a call-count fact: the event loop (header 2,
+# at most 4 passes) takes a stuck pass (block 3) or a slip pass (block 4) that calls the tick's
+# root search F (cost 1000), and the way out (block 6) calls it too; at most 3 calls of F per
+# call of the function (step_sticking(): the non-detecting pass and the first one, at the step's
+# start, make none at L = 0). Charged 3 times once, not once per pass: within less than two turns
+# of the loop (15) of the costliest execution (one the slack of every counted loop, above),
+# where charging every site would add a call per pass.
+search = function("search", {1: 1, 2: 2, 3: 5, 4: 10, 5: 3, 6: 2, 7: 1},
+                  {1: [2], 2: [3, 4, 6], 3: [2], 4: [5], 5: [2], 6: [7]}, {7}, {4: ["F"], 6: ["F"]})
+counted_calls = check("a callee called at most 3 times from a loop and its way out", search,
+                      {2: (4, False)}, exact=False, below=30, callees={"F": 1000},
+                      call_bounds={"F": 3})
+every_site = analysed(search, {2: (4, False)}, {"F": 1000})
+if not counted_calls + 1000 < every_site:
+    print(f"call-count fact: {counted_calls}, not a call below charging every site "
+          f"({every_site}): FAILED")
+    failures.append("call-count charge")
+else:
+    print(f"call-count fact: {counted_calls} against {every_site} charged at every site: ok")
+# Sound only with the fact's own count: the costliest execution with 4 calls exceeds the
+# analysis told 3.
+if not costliest(search, {2: (4, False)}, {"F": 1000}, {"F": 4}) > counted_calls:
+    print("call-count fact: a fourth call fits the analysis of three: FAILED")
+    failures.append("call-count soundness")
 
 if failures:
     sys.stderr.write(f"test_elf_wcet: {len(failures)} failed: {', '.join(failures)}\n")

@@ -54,13 +54,15 @@ inline constexpr int kMaxEventsPerStep = 32;
 // tests/core/test_stick_slip.cpp counts them on a run 32 times finer, up to omega0 dt = pi/2.
 inline constexpr int kMaxEventsOfTheExactSolutionPerStep = 3;
 
-// The loops of a step whose trip counts the static bound takes per step or per call rather than
-// per entry (port/baremetal/loop-bounds.json): a law that declares
-// `static void count_loop_run(LoopRun) noexcept` is told of every run of their bodies, and of each
-// call of the end-stop search's move to a mode's end, so that a test can count them
-// (tests/core/test_loop_runs.cpp). For every other law the call compiles to nothing.
+// The loops and calls of a step whose counts the static bound takes per step or per call rather
+// than per entry or per call site (port/baremetal/loop-bounds.json): a law that declares
+// `static void count_loop_run(LoopRun) noexcept` is told of every run of their bodies, of each
+// search of a tick's polynomial for v_r = 0 and of each call of the end-stop search's move to a
+// mode's end, so that a test can count them (tests/core/test_loop_runs.cpp). For every other law
+// the call compiles to nothing.
 enum class LoopRun : std::uint8_t {
   block_walk,     // Oscillator: one run of slip()'s block walk
+  tick_search,    // Oscillator: one search of a tick's polynomial for v_r = 0 (first_crossing())
   mode_search,    // EndStopOscillator: a call of move_to_mode_end() begins
   scan_block,     // EndStopOscillator: one run of the scan, one block
   dip_bisection,  // EndStopOscillator: one halving of the block where |v_r| dips

@@ -31,6 +31,14 @@
 //     phase; TaylorSegment::first_crossing(): at most two root searches (a dip's minimum and its
 //     root) of at most kMaxRootIterations<T> iterations each (38 in float, 67 in double: Newton's,
 //     then a loop of bisections);
+//   - searches of a tick's polynomial (first_crossing(), every scalar): at most
+//     (kEventBudget - 1) + 2^L per step. A pass that slips from inside a tick searches it once
+//     (finish_tick_*()); the first pass starts at the step's start, not inside a tick nor at a
+//     slip's start (Q7.24 excepted, whose one tick the first pass searches in place of a walk),
+//     and the pass past the budget searches nothing (d = 0), so at most kEventBudget - 1 passes
+//     do; the block walks search a tick at most once per step, since they move on past it. At
+//     L = 0 (the firmware's plan, and Q7.24) that is kEventBudget, which the static bound charges
+//     per step rather than per pass (port/baremetal/loop-bounds.json "calls");
 //     proportion(): F shift-and-subtract rounds (fixed point);
 //   - Q7.24: no block walk; finish_tick_cubic() once per slip phase, its root search at most
 //     kCubicRootNewtonSteps Newton steps from the root of its quadratic part (and one
@@ -187,6 +195,7 @@ inline bool Oscillator<T, Law>::finish_tick_taylor(Position& pos, T& x, T& v, T 
         }
       }
       T root = T(0);
+      law_detail::count_loop_run<Law>(LoopRun::tick_search);
       const bool found = segment.first_crossing(d, lo, span, at_lo, root);
       return end_on_segment(segment, found, root, u_start, pos, x, v);
     }
@@ -244,6 +253,7 @@ inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d
     const T snap = -(k_over_m_ * a + b_over_m_ * jerk);
     const CubicSegment<T> segment(x, v, a, jerk, snap);
     T root = T(0);
+    if (d != T(0)) law_detail::count_loop_run<Law>(LoopRun::tick_search);
     const bool found = d != T(0) && segment.first_crossing(d, span, root);
     return end_on_segment(segment, found, root, pos.frac, pos, x, v);
   } else {
@@ -318,6 +328,7 @@ inline bool Oscillator<T, Law>::slip(Position& pos, T& x, T& v, T d, const Input
           const TaylorSegment<T> segment(taylor_, x, v, -(a_u_start + inv_mass_ * force_start),
                                          input_slope_per_tick(in), T(0));
           T root = T(0);
+          law_detail::count_loop_run<Law>(LoopRun::tick_search);
           if (segment.first_crossing(d, T(0), T(1), v * d, root)) {
             x = segment.position(root);
             v = T(0);

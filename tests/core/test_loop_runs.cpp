@@ -8,8 +8,9 @@
 //     (kEventBudget - 1) + 2^L per step, reached at L = 0 (3, where each of the step's passes
 //     may search), in double, float and Q7.24;
 //   - the end-stop scan (EndStopOscillator::move_to_mode_end()): at most 16 blocks per call over
-//     its two scans together, the runs that leave the mode included, and its dip bisection at
-//     most kEventLevels - 4 = 12 halvings per call, reached.
+//     its two scans together, the runs that leave the mode included, its dip bisection at most
+//     kEventLevels - 4 = 12 halvings per call, and at most 2 ticks it solves itself per call
+//     (the rest of its start's tick and a dip's), all reached.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -32,6 +33,8 @@ struct LoopTally {
   long tick_search = 0;  // searches of a tick's polynomial in the current step
   long scan = 0;         // scan runs in the current move_to_mode_end() call
   long dip = 0;          // dip halvings in the current call
+  long ticks = 0;        // ticks the current call solves itself
+  long most_ticks = 0;
   long scan_after_dip = 0;
   long most_scan = 0, most_dip = 0;
   long calls_with_a_second_scan = 0, most_scan_with_a_second_scan = 0;
@@ -39,11 +42,12 @@ struct LoopTally {
   void end_call() {
     most_scan = std::max(most_scan, scan);
     most_dip = std::max(most_dip, dip);
+    most_ticks = std::max(most_ticks, ticks);
     if (scan_after_dip > 0) {
       ++calls_with_a_second_scan;
       most_scan_with_a_second_scan = std::max(most_scan_with_a_second_scan, scan);
     }
-    scan = dip = scan_after_dip = 0;
+    scan = dip = scan_after_dip = ticks = 0;
   }
 };
 
@@ -68,6 +72,9 @@ struct Counting : Law {
         break;
       case LoopRun::dip_bisection:
         ++tally.dip;
+        break;
+      case LoopRun::mode_tick:
+        ++tally.ticks;
         break;
     }
   }
@@ -211,7 +218,7 @@ TEST(LoopRuns, TheBlockWalkAndTheTickSearchesOfAStepKeepTheirCountsAndReachThemA
   CHECK_TRUE(most_level >= 6);
 }
 
-TEST(LoopRuns, TheEndStopScanRunsSixteenBlocksACallOverBothScansAndItsDipBisectionTwelve) {
+TEST(LoopRuns, TheEndStopScanRunsSixteenBlocksACallItsDipBisectionTwelveAndItSolvesTwoTicks) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int n = 0; n < 60; ++n) {
@@ -232,6 +239,7 @@ TEST(LoopRuns, TheEndStopScanRunsSixteenBlocksACallOverBothScansAndItsDipBisecti
   }
   LONGS_EQUAL(16, tally.most_scan);
   LONGS_EQUAL(kEventLevels - 4, tally.most_dip);
+  LONGS_EQUAL(2, tally.most_ticks);
   // The per-call count holds where a dip split the scan in two, and such calls are many.
   CHECK_TRUE(tally.calls_with_a_second_scan > 100);
   CHECK_TRUE(tally.most_scan_with_a_second_scan <= 16);

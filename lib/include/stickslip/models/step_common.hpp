@@ -64,6 +64,7 @@ enum class LoopRun : std::uint8_t {
   block_walk,     // Oscillator: one run of slip()'s block walk
   tick_search,    // Oscillator: one search of a tick's polynomial for v_r = 0 (first_crossing())
   mode_search,    // EndStopOscillator: a call of move_to_mode_end() begins
+  mode_tick,      // EndStopOscillator: move_to_mode_end() solves a tick (its start's or a dip's)
   scan_block,     // EndStopOscillator: one run of the scan, one block
   dip_bisection,  // EndStopOscillator: one halving of the block where |v_r| dips
 };

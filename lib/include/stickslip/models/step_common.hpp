@@ -57,9 +57,9 @@ inline constexpr int kMaxEventsOfTheExactSolutionPerStep = 3;
 // The loops and calls of a step whose counts the static bound takes per step or per call rather
 // than per entry or per call site (port/baremetal/loop-bounds.json): a law that declares
 // `static void count_loop_run(LoopRun) noexcept` is told of every run of their bodies, of each
-// search of a tick's polynomial for v_r = 0 and of each call of the end-stop search's move to a
-// mode's end, so that a test can count them (tests/core/test_loop_runs.cpp). For every other law
-// the call compiles to nothing.
+// search of a tick's polynomial for v_r = 0, and of each call of the end-stop search's move to a
+// mode's end and each tick that move solves itself, so that a test can count them
+// (tests/core/test_loop_runs.cpp). For every other law the call compiles to nothing.
 enum class LoopRun : std::uint8_t {
   block_walk,     // Oscillator: one run of slip()'s block walk
   tick_search,    // Oscillator: one search of a tick's polynomial for v_r = 0 (first_crossing())

@@ -31,6 +31,7 @@
 //     phase; TaylorSegment::first_crossing(): at most two root searches (a dip's minimum and its
 //     root) of at most kMaxRootIterations<T> iterations each (38 in float, 67 in double: Newton's,
 //     then a loop of bisections);
+//     proportion(): F shift-and-subtract rounds (fixed point);
 //   - searches of a tick's polynomial (first_crossing(), every scalar): at most
 //     (kEventBudget - 1) + 2^L per step. A pass that slips from inside a tick searches it once
 //     (finish_tick_*()); the first pass starts at the step's start, not inside a tick nor at a
@@ -39,7 +40,6 @@
 //     do; the block walks search a tick at most once per step, since they move on past it. At
 //     L = 0 (the firmware's plan, and Q7.24) that is kEventBudget, which the static bound charges
 //     per step rather than per pass (port/baremetal/loop-bounds.json "calls");
-//     proportion(): F shift-and-subtract rounds (fixed point);
 //   - Q7.24: no block walk; finish_tick_cubic() once per slip phase, its root search at most
 //     kCubicRootNewtonSteps Newton steps from the root of its quadratic part (and one
 //     proportion for a dip's minimum).

@@ -419,6 +419,10 @@ w("*Hardest set*: 600 s from `stickslip_node_hardest_input` (`port/baremetal/src
   "the median's 100-instruction bucket, the smallest the median can be. The frame counts include "
   "the ECU node around the step.")
 w("")
+wcet = {preset: {kind: json.load(open(f"{work}/{preset}.wcet-{kind}.json"))
+                 for kind in ("step", "frame", "gap")} for preset in ("cortex-m0plus", "cortex-m4f")}
+newton_float = wcet["cortex-m4f"]["frame"]["constants"]["kRootNewtonIterationsFloat"]
+bisections_float = 24 - 2
 w("**The bound.** Every loop of the step has a fixed trip count, stated in "
   "`lib/include/stickslip/models/detail/event_search.hpp`. The event budget is a compile-time "
   "constant (`Oscillator::kEventBudget`): 3 for every scalar, the most events the exact solution "
@@ -447,13 +451,12 @@ w("**The bound.** Every loop of the step has a fixed trip count, stated in "
   "fixes at build time, below), searches a tick's polynomial at most (kEventBudget - 1) + 2^L "
   "times a step (3 at L = 0, in Q7.24 too: `LoopRuns.*` counts them and reaches that; "
   "`event_search.hpp` says why) and its root search runs at "
-  "most `kMaxRootIterations<float>` = 38 iterations per root: Newton's in the first "
-  "`kRootNewtonIterations` = 16, then a loop of bisections, of which 22 bring any bracket "
+  f"most `kMaxRootIterations<float>` = {newton_float + bisections_float} iterations per root: "
+  f"Newton's in the first `kRootNewtonIterations<float>` = {newton_float}, then a loop of "
+  f"bisections, of which {bisections_float} bring any bracket "
   "within the search's tolerance, 4 eps (lo + hi) (`integrators/taylor_segment.hpp`; CTest "
   "`RootSearch.*` reaches that bound and checks the tolerance there).")
 w("")
-wcet = {preset: {kind: json.load(open(f"{work}/{preset}.wcet-{kind}.json"))
-                 for kind in ("step", "frame", "gap")} for preset in ("cortex-m0plus", "cortex-m4f")}
 def short_name(symbol):
     # Class and function without templates, arguments or namespaces stickslip:: and
     # fixed_point_detail:: (a mangled or a demangled name: c++filt passes the latter through).
@@ -553,7 +556,7 @@ w(f"**What the bound says.** **Cortex-M0+**: no frame that follows no gap takes 
   "and `stickslip_node_start()` refuses a seat that needs a finer one (a stiffer seat or a longer "
   "dt), so the block walk of `slip()` is one map per step and the polynomials are of degree 4 at "
   "most. With the root search's proven bound of "
-  f"{m4_constants['kRootNewtonIterations']} Newton iterations (about {m4_root_turn} instructions "
+  f"{m4_constants['kRootNewtonIterationsFloat']} Newton iterations (about {m4_root_turn} instructions "
   f"each: f, f' and f'') and 22 bisections (about {m4_bisection_turn} each: f alone, a loop of "
   "its own so that the analysis does not charge them Newton's evaluations), what remains is far "
   f"from tight: the step is charged {m4_searches_per_step} searches of a tick's polynomial (the "
@@ -800,7 +803,8 @@ w("The compile definition `STICKSLIP_FIRMWARE_END_STOPS` (the ELF "
   "block bisected once to the tick of its turn, a bisection of 12 levels and three Taylor ticks "
   "(the rest of the tick the pass starts in, the dip's and the one that leaves the mode: "
   "`move_to_mode_end()` solves at most two itself, a count per call that the bounds file states "
-  "and CTest `LoopRuns.*` reaches) whose root searches run 16 Newton iterations and 22 "
+  f"and CTest `LoopRuns.*` reaches) whose root searches run {newton_float} Newton iterations "
+  f"and {bisections_float} "
   "bisections each; on the M0+, one tick per step, one cubic tick, that of the pass's start, "
   "whose end is the step's (stated at compile time, so that the path past it is not compiled), "
   "or the one that leaves the mode, with 3 Newton steps on v_r and the stroke's search, "

@@ -85,8 +85,8 @@ TEST_GROUP(RootSearch){};
 TEST(RootSearch, ItsBoundIsNewtonsIterationsPlusTheBisectionsThatReachTheTolerance) {
   LONGS_EQUAL(22, kRootBisections<float>);
   LONGS_EQUAL(51, kRootBisections<double>);
-  LONGS_EQUAL(kRootNewtonIterations + 22, kMaxRootIterations<float>);
-  LONGS_EQUAL(kRootNewtonIterations + 51, kMaxRootIterations<double>);
+  LONGS_EQUAL(kRootNewtonIterationsFloat + 22, kMaxRootIterations<float>);
+  LONGS_EQUAL(kRootNewtonIterationsDouble + 51, kMaxRootIterations<double>);
 }
 
 TEST(RootSearch, BisectingEveryIterationMeetsTheToleranceWellWithinTheBound) {

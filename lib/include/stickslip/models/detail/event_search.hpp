@@ -29,7 +29,7 @@
 //     lowest_set_bit(): at most L shifts;
 //   - finish_tick_taylor(): at most 2 passes (the second after the start guard), once per slip
 //     phase; TaylorSegment::first_crossing(): at most two root searches (a dip's minimum and its
-//     root) of at most kMaxRootIterations<T> iterations each (38 in float, 67 in double: Newton's,
+//     root) of at most kMaxRootIterations<T> iterations each (34 in float, 67 in double: Newton's,
 //     then a loop of bisections);
 //     proportion(): F shift-and-subtract rounds (fixed point);
 //   - searches of a tick's polynomial (first_crossing(), every scalar): at most

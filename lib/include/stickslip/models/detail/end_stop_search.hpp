@@ -156,11 +156,15 @@ bool EndStopOscillator<T, Law>::break_away(const Input& in, Position& pos,
   }
   const T phi_break = phi_now + ratio * (T(1) - phi_now);
   stuck_fraction += phi_break - phi_now;
-  const T ticks = phi_break * T(kTicks);
-  unsigned whole = static_cast<unsigned>(ticks);
+  // The break-away as ticks after pos, which keeps a fraction of a tick to the scalar's
+  // precision. Through phi it would keep the step's: in float late in a step 1/256 of a tick, and
+  // rounding could put the break-away before pos, where the seat stuck, to slip back and stick
+  // again at once there until the event budget ran out.
+  const T ticks = pos.frac + ratio * (T(kTicks - pos.tick) - pos.frac);
+  unsigned whole = pos.tick + static_cast<unsigned>(ticks);
   if (whole >= kTicks) whole = kTicks;
+  pos.frac = whole >= kTicks ? T(0) : ticks - T(whole - pos.tick);
   pos.tick = whole;
-  pos.frac = whole >= kTicks ? T(0) : ticks - T(whole);
   direction_ = f1 > T(0) ? T(-1) : T(1);
   return true;
 }
@@ -383,11 +387,14 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
 template <typename T, typename Law>
 typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_tick_taylor(
     const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
-  const T offset = inv_mass_ * (slip_force() - stop_stiffness_ * travel_ * T(contact_));
+  // On x_r from the mode's anchor, as the maps (anchor_of()): the tick agrees with them.
+  const T anchor = anchor_of(contact_);
+  const T offset = mode_offset(contact_, anchor, slip_force());
   const T span = T(1) - pos.frac;
   const T starting = kSticking && v == T(0) ? direction_ : T(0);
-  const TaylorSegment<T> segment(taylor_[contact_ != 0 ? 1 : 0], x, v, -(in.at(phi(pos)) + offset),
-                                 -(in.a1 - in.a0) * tick_fraction_, starting);
+  const TaylorSegment<T> segment(taylor_[contact_ != 0 ? 1 : 0], from_anchor(x, anchor), v,
+                                 -(in.at(phi(pos)) + offset), -(in.a1 - in.a0) * tick_fraction_,
+                                 starting);
   T end = span;
   Boundary found = Boundary::none;
   if (detect) {
@@ -398,14 +405,17 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
         found = Boundary::velocity;
       }
     }
-    const StrokeCrossing c = stroke_crossing(x, segment.position(end));
+    const StrokeCrossing c = stroke_crossing(x, to_anchor(segment.position(end), anchor));
     if (c.leaves) {
       // On the edge already at the tick's start (f_lo = 0): the boundary is here.
-      end = c.f_lo < T(0) ? segment.edge_crossing(c.edge, c.s, T(0), end, c.f_lo, c.f_hi) : T(0);
+      end = c.f_lo < T(0) ? segment.edge_crossing(c.edge - anchor, c.s, T(0), end, c.f_lo, c.f_hi)
+                          : T(0);
       found = Boundary::stroke;
     }
   }
-  return end_on_segment(segment, found, end, pos, x, v);
+  const Boundary result = end_on_segment(segment, found, end, pos, x, v);
+  x = to_anchor(x, anchor);
+  return result;
 }
 
 // Scene units, one tick per step (Q7.24): on the mode's cubic polynomial of the exact solution

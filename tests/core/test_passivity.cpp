@@ -164,6 +164,37 @@ TEST(Passivity, ExactMapsScaleAreaByTheirExactDeterminantToRoundingOnStiffSeats)
   CHECK_EQUAL(6 * 3 * kMapLevels, maps);
 }
 
+// The same maps near the identity (NearIdentityStepMap) against the closed form of an undamped
+// seat: xx - 1 = vv - 1 = -2 sin^2(omega0 h / 2), xv = sin(omega0 h) / omega0, vx = -omega0
+// sin(omega0 h), each to 2 eps of itself; xx - 1 formed from a rounded xx would be off by up to
+// eps / 2 against a value of (omega0 h)^2 / 2: 1 % of it at the finest level of omega0 dt = 0.01.
+TEST(Passivity, ExactMapsNearTheIdentityKeepTheirDiagonalToADoublesPrecision) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  int maps = 0;
+  for (const double omega_dt : {0.01, 0.5, 1.5707963267948966, 2.1}) {
+    OscillatorParams p =
+        test::reference_params(FrictionModel::linear, Integrator::exact, 1e-3, 0.0);
+    p.stiffness_n_per_m = p.mass_kg * (omega_dt / p.dt_s) * (omega_dt / p.dt_s);
+    DiscreteModel model;
+    CHECK_TRUE(discretise(p, model).ok());
+    using Wide = long double;
+    const Wide omega = std::sqrt(Wide(p.stiffness_n_per_m) / Wide(p.mass_kg));
+    for (int level = 0; level < kMapLevels; ++level) {
+      const NearIdentityStepMap<double>& m = model.near_identity_maps[level];
+      const Wide h = std::ldexp(Wide(p.dt_s), -level);
+      const Wide half = std::sin(omega * h / 2);
+      const Wide diagonal = -2 * half * half;
+      const Wide xv = std::sin(omega * h) / omega, vx = -omega * std::sin(omega * h);
+      CHECK(std::fabs(Wide(m.xx_minus_one) - diagonal) <= 2 * eps * std::fabs(diagonal));
+      CHECK(std::fabs(Wide(m.vv_minus_one) - diagonal) <= 2 * eps * std::fabs(diagonal));
+      CHECK(std::fabs(Wide(m.xv) - xv) <= 2 * eps * std::fabs(xv));
+      CHECK(std::fabs(Wide(m.vx) - vx) <= 2 * eps * std::fabs(vx));
+      ++maps;
+    }
+  }
+  CHECK_EQUAL(4 * kMapLevels, maps);
+}
+
 // Symplectic and RK4 with b > 0 inside their stability limits: E never exceeds 1.01 E0, from
 // random states and from a large one (0.5 m, 1 m/s), at 1 ms, 10 ms and 50 ms.
 TEST(Passivity, DampedSymplecticAndRk4StayWithinOnePercentOfInitialEnergy) {

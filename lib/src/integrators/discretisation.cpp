@@ -47,8 +47,11 @@ Mat4 multiply(const Mat4& left, const Mat4& right) {
 }
 
 // exp(M) by scaling and squaring with a degree-24 Taylor polynomial: robust for under-, critically
-// and over-damped systems and b = 0 alike, with no case distinctions.
-Mat4 exponential(Mat4 m) {
+// and over-damped systems and b = 0 alike, with no case distinctions. With `minus_identity`,
+// exp(M) - I, its entries each to the relative precision of a Real: the series without its
+// first term, and each squaring as (I + D)^2 - I = 2 D + D^2, so that the diagonal near 1 never
+// holds the 1.
+Mat4 exponential(Mat4 m, bool minus_identity = false) {
   Real norm = 0;
   for (int j = 0; j < 4; ++j) {
     Real column = 0;
@@ -64,7 +67,9 @@ Mat4 exponential(Mat4 m) {
   for (auto& row : m.a)
     for (Real& value : row) value *= scale;
   Mat4 result{}, term{};
-  for (int i = 0; i < 4; ++i) result.a[i][i] = term.a[i][i] = 1;
+  for (int i = 0; i < 4; ++i) term.a[i][i] = 1;
+  if (!minus_identity)
+    for (int i = 0; i < 4; ++i) result.a[i][i] = 1;
   for (int k = 1; k <= 24; ++k) {
     term = multiply(term, m);
     for (auto& row : term.a)
@@ -72,7 +77,13 @@ Mat4 exponential(Mat4 m) {
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) result.a[i][j] += term.a[i][j];
   }
-  for (int s = 0; s < squarings; ++s) result = multiply(result, result);
+  for (int s = 0; s < squarings; ++s) {
+    Mat4 square = multiply(result, result);
+    if (minus_identity)
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) square.a[i][j] += 2 * result.a[i][j];
+    result = square;
+  }
   return result;
 }
 
@@ -89,7 +100,12 @@ Mat4 exponential(Mat4 m) {
 // seats compared (88.4 kg, k from 3.2e3 to 1e8 N/m, b up to 2,504 N s/m, dt 0.1 to 2 ms) only
 // those of 1e7 N/m and more got other doubles: the reference seat, and it on stops of up to
 // 1e6 N/m, keep every coefficient.
-StepMap<double> exact_map(Real k_m, Real b_m, Real h) {
+struct BalancedExponential {
+  Mat4 e;  // exp(m) or exp(m) - I, with m the balanced matrix
+  Real c;  // the balance: E = D e D^-1 (+ I), D = diag(1, c, c^2, c^2)
+};
+
+BalancedExponential balanced_exponential(Real k_m, Real b_m, Real h, bool minus_identity) {
   const int scale_exponent = k_m > 0 ? static_cast<int>(std::lround(0.5L * std::log2(k_m))) : 0;
   const Real c = std::ldexp(Real(1), scale_exponent);
   Mat4 m{};
@@ -98,9 +114,14 @@ StepMap<double> exact_map(Real k_m, Real b_m, Real h) {
   m.a[1][1] = -b_m * h;
   m.a[1][2] = h * c;
   m.a[2][3] = 1;  // in step-normalised time s = t/h the input rises by q = g1 - g0 per step
-  const Mat4 e = exponential(m);
-  // z(1) = E z(0) with z(0) = [x, v, g0, g1 - g0]; E = D exp(m) D^-1, D = diag(1, c, c^2, c^2).
-  const Real c2 = c * c;
+  return {exponential(m, minus_identity), c};
+}
+
+StepMap<double> exact_map(Real k_m, Real b_m, Real h) {
+  const BalancedExponential b = balanced_exponential(k_m, b_m, h, false);
+  const Mat4& e = b.e;
+  const Real c = b.c, c2 = c * c;
+  // z(1) = E z(0) with z(0) = [x, v, g0, g1 - g0].
   StepMap<double> out{};
   out.xx = static_cast<double>(e.a[0][0]);
   out.xv = static_cast<double>(e.a[0][1] / c);
@@ -110,6 +131,23 @@ StepMap<double> exact_map(Real k_m, Real b_m, Real h) {
   out.gx1 = static_cast<double>(e.a[0][3] / c2);
   out.gv0 = static_cast<double>((e.a[1][2] - e.a[1][3]) / c);
   out.gv1 = static_cast<double>(e.a[1][3] / c);
+  return out;
+}
+
+// The exact map from exp(m) - I: its off-diagonal and input terms are E's, its diagonal E's less 1.
+NearIdentityStepMap<double> exact_near_identity_map(Real k_m, Real b_m, Real h) {
+  const BalancedExponential b = balanced_exponential(k_m, b_m, h, true);
+  const Mat4& d = b.e;
+  const Real c = b.c, c2 = c * c;
+  NearIdentityStepMap<double> out{};
+  out.xx_minus_one = static_cast<double>(d.a[0][0]);
+  out.xv = static_cast<double>(d.a[0][1] / c);
+  out.vx = static_cast<double>(d.a[1][0] * c);
+  out.vv_minus_one = static_cast<double>(d.a[1][1]);
+  out.gx0 = static_cast<double>((d.a[0][2] - d.a[0][3]) / c2);
+  out.gx1 = static_cast<double>(d.a[0][3] / c2);
+  out.gv0 = static_cast<double>((d.a[1][2] - d.a[1][3]) / c);
+  out.gv1 = static_cast<double>(d.a[1][3] / c);
   return out;
 }
 
@@ -168,6 +206,21 @@ StepMap<double> map_for(Integrator integrator, Real k_m, Real b_m, Real h) {
       break;
   }
   return exact_map(k_m, b_m, h);
+}
+
+// The exact integrator's maps from exp(m) - I; the others' (used by no model in this form) from
+// their map, whose diagonal is then only a double's.
+NearIdentityStepMap<double> near_identity_map_for(Integrator integrator, const StepMap<double>& map,
+                                                  Real k_m, Real b_m, Real h) {
+  if (integrator == Integrator::exact) return exact_near_identity_map(k_m, b_m, h);
+  return {static_cast<double>(wide(map.xx) - 1),
+          map.xv,
+          map.vx,
+          static_cast<double>(wide(map.vv) - 1),
+          map.gx0,
+          map.gx1,
+          map.gv0,
+          map.gv1};
 }
 
 // d F_f / d v_r at v_r = 0 for the smoothed forms, N s/m: the friction acts as a damper there,
@@ -432,6 +485,8 @@ void fill_model(const OscillatorParams& p, double omega0, double radius, Discret
   for (int level = 0; level < kMapLevels; ++level) {
     const Real h = std::ldexp(static_cast<Real>(p.dt_s), -level);
     out.maps[level] = map_for(p.integrator, k_m_real, b_m, h);
+    out.near_identity_maps[level] =
+        near_identity_map_for(p.integrator, out.maps[level], k_m_real, b_m, h);
     out.block_s[level] = static_cast<double>(h);
   }
   out.inv_dt = 1.0 / p.dt_s;

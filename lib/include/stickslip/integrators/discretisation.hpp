@@ -12,16 +12,19 @@ namespace stickslip {
 struct DiscreteModel {
   OscillatorParams params;
   StepMap<double> maps[kMapLevels];  // maps[l] advances dt / 2^l with the chosen integrator
-  double block_s[kMapLevels];        // dt / 2^l
-  double inv_dt;                     // 1/dt, for the input slope inside a step
-  double inv_mass;                   // 1/m
-  double stiffness_over_mass;        // k/m
-  double damping_over_mass;          // b/m
-  double stribeck_excess_n;          // F_fs - F_fk
-  double inv_stribeck_velocity;      // 1/v_S
-  double smoothing_scale_n;          // F_fk, or F_fk*2/pi for the atan form
-  double natural_frequency_rad_s;    // sqrt(k/m)
-  double spectral_radius;            // of the one-step map linearised at v_r = 0
+  // The same maps with their diagonals as differences from 1, each to the precision of a double
+  // (step_map.hpp).
+  NearIdentityStepMap<double> near_identity_maps[kMapLevels];
+  double block_s[kMapLevels];      // dt / 2^l
+  double inv_dt;                   // 1/dt, for the input slope inside a step
+  double inv_mass;                 // 1/m
+  double stiffness_over_mass;      // k/m
+  double damping_over_mass;        // b/m
+  double stribeck_excess_n;        // F_fs - F_fk
+  double inv_stribeck_velocity;    // 1/v_S
+  double smoothing_scale_n;        // F_fk, or F_fk*2/pi for the atan form
+  double natural_frequency_rad_s;  // sqrt(k/m)
+  double spectral_radius;          // of the one-step map linearised at v_r = 0
 };
 
 // How the in-step event search resolves an event. It bisects on the dyadic grid of the step down

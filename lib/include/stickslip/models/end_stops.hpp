@@ -159,8 +159,15 @@ class EndStopOscillator {
       if (!result.ok()) return result;
     }
     for (int l = 0; l <= kLevels; ++l) {
-      maps_[0][l] = StepMap<T>::from_double(free_model.maps[l]);
-      maps_[1][l] = StepMap<T>::from_double(contact_model.maps[l]);
+      if constexpr (kNearIdentity) {
+        maps_[0][l] = Map::from_double(free_model.near_identity_maps[l]);
+        maps_[1][l] = Map::from_double(contact_model.near_identity_maps[l]);
+        whole_maps_[0] = StepMap<T>::from_double(free_model.maps[0]);
+        whole_maps_[1] = StepMap<T>::from_double(contact_model.maps[0]);
+      } else {
+        maps_[0][l] = Map::from_double(free_model.maps[l]);
+        maps_[1][l] = Map::from_double(contact_model.maps[l]);
+      }
     }
     mass_kg_ = S::from_double(seat.mass_kg);
     inv_mass_ = S::from_double(free_model.inv_mass);
@@ -282,10 +289,10 @@ class EndStopOscillator {
       }
     } else {
       // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
-      const T anchor = anchor_of(contact_);
+      const T anchor = anchor_of(contact_, x_);
       const T offset = mode_offset(contact_, anchor, slip_force());
       T x = from_anchor(x_, anchor), v = v_;
-      apply_step_map(maps_[contact_ != 0 ? 1 : 0][0], x, v, -(in.a0 + offset), -(in.a1 + offset));
+      apply_step_map(whole_map(contact_), x, v, -(in.a0 + offset), -(in.a1 + offset));
       x = to_anchor(x, anchor);
       const T a_x = seat_acceleration(x, v);
       // v_r' = a_x - a_u: the relative acceleration at both ends, the start's kept from before
@@ -459,16 +466,35 @@ class EndStopOscillator {
   // On x_r itself the contact maps form x_r' from terms the size of the travel that cancel to the
   // size of the penetration, and round it each step by eps travel, where the stop's energy moves
   // with the penetration: an undamped seat's energy drifted by about 5e-15 with every step in
-  // contact on stops of 1e8 N/m (omega dt = 2.1 there). The anchor is subtracted and added back
-  // exactly while |x_r| is within twice the travel. Fixed point rounds a product to an absolute
-  // unit whatever the size of its terms: there the maps act on x_r itself, and the firmware's
-  // Q7.24 step is the same.
+  // contact on stops of 1e8 N/m (omega dt = 2.1 there). The anchor is taken while |x_r| is within
+  // twice the travel, where it is subtracted exactly; deeper in a stop the penetration is at least
+  // the travel, the terms no longer cancel, and rounding x_r - c travel in every advance() would
+  // itself move the energy at each of the scan's calls (Coulomb at 0 N, 0.15 m into stops of
+  // 3e7 N/m: 1e-9 in 1e6 steps): there the maps act on x_r. Fixed point rounds a product to an
+  // absolute unit whatever the size of its terms: there the maps act on x_r itself, and the
+  // firmware's Q7.24 step is the same.
   static constexpr bool kAnchored = !S::kTracksSaturation;
-  T anchor_of(int c) const noexcept {
-    if constexpr (kAnchored) {
-      return travel_ * T(c);
+  // Double also keeps its block maps' diagonals as differences from 1 (NearIdentityStepMap,
+  // integrators/step_map.hpp): rounded to a double, xx and vv carry an error of one sign that the
+  // 20 block maps on the way to each contact turned into 1e-15 of the energy a contact. The whole
+  // step's map stays the plain oscillator's (whole_maps_), so that a step without events out of
+  // reach of the stops is the plain seat's step bit for bit. Float's own rounding (6e-8) is far
+  // above that error, and on the Cortex-M4F the two additions a map cost 10 % of the end-stop
+  // seat's instructions per frame: float keeps its plain maps.
+  static constexpr bool kNearIdentity = std::is_same_v<T, double>;
+  using Map = std::conditional_t<kNearIdentity, NearIdentityStepMap<T>, StepMap<T>>;
+  const StepMap<T>& whole_map(int c) const noexcept {
+    if constexpr (kNearIdentity) {
+      return whole_maps_[c != 0 ? 1 : 0];
     } else {
-      (void)c;
+      return maps_[c != 0 ? 1 : 0][0];
+    }
+  }
+  T anchor_of(int c, T x) const noexcept {
+    if constexpr (kAnchored) {
+      return c != 0 && S::abs(x) <= T(2) * travel_ ? travel_ * T(c) : T(0);
+    } else {
+      (void)c, (void)x;
       return T(0);
     }
   }
@@ -491,24 +517,33 @@ class EndStopOscillator {
   // The mode's constant forces over m, as the maps' input takes them (g = -(a_u + offset)).
   T mode_offset(int c, T anchor, T force_n) const noexcept {
     if constexpr (kAnchored) {
-      (void)c;
-      return inv_mass_ * (force_n + stiffness_ * anchor);
+      if (anchor != T(0)) return inv_mass_ * (force_n + stiffness_ * anchor);
     } else {
       (void)anchor;
-      return inv_mass_ * (force_n - stop_stiffness_ * travel_ * T(c));
     }
+    return inv_mass_ * (force_n - stop_stiffness_ * travel_ * T(c));
   }
 
   // Advances (x, v) from tick `from` by `count` ticks in mode (contact c, friction force_n held),
   // as dyadic blocks (largest first): exact for the mode's linear motion with the FOH input.
   void advance(T& x, T& v, int c, T force_n, unsigned from, unsigned count,
                const Input& in) const noexcept {
-    const T anchor = anchor_of(c);
+    const T anchor = anchor_of(c, x);
     const T offset = mode_offset(c, anchor, force_n);
-    const StepMap<T>* maps = maps_[c != 0 ? 1 : 0];
+    const Map* maps = maps_[c != 0 ? 1 : 0];
     T p = from_anchor(x, anchor);
     unsigned at = from;
-    for (int level = 0; level <= kLevels && count > 0; ++level) {
+    int first_level = 0;
+    if constexpr (kNearIdentity) {
+      if (count >= kTicks) {  // the whole step: the common path's map
+        apply_step_map(whole_map(c), p, v, -(in.at(T(at) * tick_fraction_) + offset),
+                       -(in.at(T(at + kTicks) * tick_fraction_) + offset));
+        at += kTicks;
+        count -= kTicks;
+      }
+      first_level = 1;
+    }
+    for (int level = first_level; level <= kLevels && count > 0; ++level) {
       const unsigned block = kTicks >> level;
       while (count >= block) {
         apply_step_map(maps[level], p, v, -(in.at(T(at) * tick_fraction_) + offset),
@@ -694,7 +729,9 @@ class EndStopOscillator {
     return o;
   }
 
-  StepMap<T> maps_[2][kLevels + 1]{};  // [free, contact][level]
+  Map maps_[2][kLevels + 1]{};  // [free, contact][level]
+  // Double: [free, contact], the whole step (whole_map()); nothing for the other scalars.
+  std::conditional_t<kNearIdentity, StepMap<T>[2], std::uint8_t[1]> whole_maps_ {};
   TaylorCoefficients<T> taylor_[2]{};  // [free, contact], one tick
   T mass_kg_{}, inv_mass_{}, stiffness_{}, damping_{};
   T stop_stiffness_{}, stop_damping_{}, travel_{};

@@ -388,7 +388,7 @@ template <typename T, typename Law>
 typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_tick_taylor(
     const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
   // On x_r from the mode's anchor, as the maps (anchor_of()): the tick agrees with them.
-  const T anchor = anchor_of(contact_);
+  const T anchor = anchor_of(contact_, x);
   const T offset = mode_offset(contact_, anchor, slip_force());
   const T span = T(1) - pos.frac;
   const T starting = kSticking && v == T(0) ? direction_ : T(0);

@@ -162,12 +162,14 @@ class EndStopOscillator {
       if constexpr (kNearIdentity) {
         maps_[0][l] = Map::from_double(free_model.near_identity_maps[l]);
         maps_[1][l] = Map::from_double(contact_model.near_identity_maps[l]);
-        whole_maps_[0] = StepMap<T>::from_double(free_model.maps[0]);
-        whole_maps_[1] = StepMap<T>::from_double(contact_model.maps[0]);
       } else {
         maps_[0][l] = Map::from_double(free_model.maps[l]);
         maps_[1][l] = Map::from_double(contact_model.maps[l]);
       }
+    }
+    if constexpr (kNearIdentity) {
+      whole_maps_[0] = StepMap<T>::from_double(free_model.maps[0]);
+      whole_maps_[1] = StepMap<T>::from_double(contact_model.maps[0]);
     }
     mass_kg_ = S::from_double(seat.mass_kg);
     inv_mass_ = S::from_double(free_model.inv_mass);

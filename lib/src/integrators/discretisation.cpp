@@ -117,11 +117,11 @@ BalancedExponential balanced_exponential(Real k_m, Real b_m, Real h, bool minus_
   return {exponential(m, minus_identity), c};
 }
 
-StepMap<double> exact_map(Real k_m, Real b_m, Real h) {
-  const BalancedExponential b = balanced_exponential(k_m, b_m, h, false);
+// The map's coefficients from the balanced exponential (E, or E - I), z(1) = E z(0) with
+// z(0) = [x, v, g0, g1 - g0].
+StepMap<double> unbalanced_map(const BalancedExponential& b) {
   const Mat4& e = b.e;
   const Real c = b.c, c2 = c * c;
-  // z(1) = E z(0) with z(0) = [x, v, g0, g1 - g0].
   StepMap<double> out{};
   out.xx = static_cast<double>(e.a[0][0]);
   out.xv = static_cast<double>(e.a[0][1] / c);
@@ -134,21 +134,13 @@ StepMap<double> exact_map(Real k_m, Real b_m, Real h) {
   return out;
 }
 
-// The exact map from exp(m) - I: its off-diagonal and input terms are E's, its diagonal E's less 1.
+StepMap<double> exact_map(Real k_m, Real b_m, Real h) {
+  return unbalanced_map(balanced_exponential(k_m, b_m, h, false));
+}
+
+// From exp(m) - I: E's off-diagonal and input terms, its diagonal less 1.
 NearIdentityStepMap<double> exact_near_identity_map(Real k_m, Real b_m, Real h) {
-  const BalancedExponential b = balanced_exponential(k_m, b_m, h, true);
-  const Mat4& d = b.e;
-  const Real c = b.c, c2 = c * c;
-  NearIdentityStepMap<double> out{};
-  out.xx_minus_one = static_cast<double>(d.a[0][0]);
-  out.xv = static_cast<double>(d.a[0][1] / c);
-  out.vx = static_cast<double>(d.a[1][0] * c);
-  out.vv_minus_one = static_cast<double>(d.a[1][1]);
-  out.gx0 = static_cast<double>((d.a[0][2] - d.a[0][3]) / c2);
-  out.gx1 = static_cast<double>(d.a[0][3] / c2);
-  out.gv0 = static_cast<double>((d.a[1][2] - d.a[1][3]) / c);
-  out.gv1 = static_cast<double>(d.a[1][3] / c);
-  return out;
+  return {unbalanced_map(balanced_exponential(k_m, b_m, h, true))};
 }
 
 // RK4 on the affine system, applied to the basis vectors (the map is linear in x, v, g0, g1).
@@ -213,14 +205,10 @@ StepMap<double> map_for(Integrator integrator, Real k_m, Real b_m, Real h) {
 NearIdentityStepMap<double> near_identity_map_for(Integrator integrator, const StepMap<double>& map,
                                                   Real k_m, Real b_m, Real h) {
   if (integrator == Integrator::exact) return exact_near_identity_map(k_m, b_m, h);
-  return {static_cast<double>(wide(map.xx) - 1),
-          map.xv,
-          map.vx,
-          static_cast<double>(wide(map.vv) - 1),
-          map.gx0,
-          map.gx1,
-          map.gv0,
-          map.gv1};
+  NearIdentityStepMap<double> out{map};
+  out.less_identity.xx = static_cast<double>(wide(map.xx) - 1);
+  out.less_identity.vv = static_cast<double>(wide(map.vv) - 1);
+  return out;
 }
 
 // d F_f / d v_r at v_r = 0 for the smoothed forms, N s/m: the friction acts as a damper there,

@@ -41,30 +41,28 @@ STICKSLIP_COMPACT_INLINE constexpr void apply_step_map(const StepMap<T>& m, T& x
   v = v_next;
 }
 
-// The same map with its diagonal stored as the difference from 1, xx - 1 and vv - 1. Over a short
-// block the map is near the identity: xx rounded to the scalar keeps only its eps, the same
-// error every step, and an undamped seat's energy moves by it each time the map is applied (the
-// reference seat: 7e-17 a step, and about 1e-15 on the 20 block maps of the scan that locate an
-// end stop's contact, with one sign since contacts happen at one phase of the motion). The
-// differences keep the full relative precision of the scalar, and the step adds them to x and v.
+// The same map less the identity: `less_identity` holds xx - 1 and vv - 1 on its diagonal and the
+// map's other coefficients as they are. Over a short block the map is near the identity: xx
+// rounded to the scalar keeps only its eps, the same error every step, and an undamped seat's
+// energy moves by it each time the map is applied (the reference seat: 7e-17 a step, and about
+// 1e-15 on the 20 block maps of the scan that locate an end stop's contact, with one sign since
+// contacts happen at one phase of the motion). xx - 1 and vv - 1 keep the full relative precision
+// of the scalar, and the step adds what they give to x and v.
 template <typename T>
 struct NearIdentityStepMap {
-  T xx_minus_one, xv, vx, vv_minus_one;
-  T gx0, gx1, gv0, gv1;
+  StepMap<T> less_identity;
 
   static NearIdentityStepMap from_double(const NearIdentityStepMap<double>& m) noexcept {
-    using S = ScalarTraits<T>;
-    return {S::from_double(m.xx_minus_one), S::from_double(m.xv),  S::from_double(m.vx),
-            S::from_double(m.vv_minus_one), S::from_double(m.gx0), S::from_double(m.gx1),
-            S::from_double(m.gv0),          S::from_double(m.gv1)};
+    return {StepMap<T>::from_double(m.less_identity)};
   }
 };
 
 template <typename T>
-STICKSLIP_COMPACT_INLINE constexpr void apply_step_map(const NearIdentityStepMap<T>& m, T& x, T& v,
-                                                       T g0, T g1) noexcept {
-  const T x_next = x + ((m.xx_minus_one * x + m.xv * v) + (m.gx0 * g0 + m.gx1 * g1));
-  const T v_next = v + ((m.vx * x + m.vv_minus_one * v) + (m.gv0 * g0 + m.gv1 * g1));
+STICKSLIP_COMPACT_INLINE constexpr void apply_step_map(const NearIdentityStepMap<T>& near, T& x,
+                                                       T& v, T g0, T g1) noexcept {
+  const StepMap<T>& m = near.less_identity;
+  const T x_next = x + ((m.xx * x + m.xv * v) + (m.gx0 * g0 + m.gx1 * g1));
+  const T v_next = v + ((m.vx * x + m.vv * v) + (m.gv0 * g0 + m.gv1 * g1));
   x = x_next;
   v = v_next;
 }

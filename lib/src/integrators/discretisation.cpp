@@ -138,11 +138,6 @@ StepMap<double> exact_map(Real k_m, Real b_m, Real h) {
   return unbalanced_map(balanced_exponential(k_m, b_m, h, false));
 }
 
-// From exp(m) - I: E's off-diagonal and input terms, its diagonal less 1.
-NearIdentityStepMap<double> exact_near_identity_map(Real k_m, Real b_m, Real h) {
-  return {unbalanced_map(balanced_exponential(k_m, b_m, h, true))};
-}
-
 // RK4 on the affine system, applied to the basis vectors (the map is linear in x, v, g0, g1).
 void rk4_apply(Real k_m, Real b_m, Real h, Real x, Real v, Real g0, Real g1, Real& x_out,
                Real& v_out) {
@@ -198,17 +193,6 @@ StepMap<double> map_for(Integrator integrator, Real k_m, Real b_m, Real h) {
       break;
   }
   return exact_map(k_m, b_m, h);
-}
-
-// The exact integrator's maps from exp(m) - I; the others' (used by no model in this form) from
-// their map, whose diagonal is then only a double's.
-NearIdentityStepMap<double> near_identity_map_for(Integrator integrator, const StepMap<double>& map,
-                                                  Real k_m, Real b_m, Real h) {
-  if (integrator == Integrator::exact) return exact_near_identity_map(k_m, b_m, h);
-  NearIdentityStepMap<double> out{map};
-  out.less_identity.xx = static_cast<double>(wide(map.xx) - 1);
-  out.less_identity.vv = static_cast<double>(wide(map.vv) - 1);
-  return out;
 }
 
 // d F_f / d v_r at v_r = 0 for the smoothed forms, N s/m: the friction acts as a damper there,
@@ -473,8 +457,6 @@ void fill_model(const OscillatorParams& p, double omega0, double radius, Discret
   for (int level = 0; level < kMapLevels; ++level) {
     const Real h = std::ldexp(static_cast<Real>(p.dt_s), -level);
     out.maps[level] = map_for(p.integrator, k_m_real, b_m, h);
-    out.near_identity_maps[level] =
-        near_identity_map_for(p.integrator, out.maps[level], k_m_real, b_m, h);
     out.block_s[level] = static_cast<double>(h);
   }
   out.inv_dt = 1.0 / p.dt_s;
@@ -500,6 +482,15 @@ double spectral_radius(const StepMap<double>& m) noexcept {
   const Real root = std::sqrt(disc);
   const Real a = std::fabs((trace + root) / 2), b = std::fabs((trace - root) / 2);
   return static_cast<double>(a > b ? a : b);
+}
+
+// From exp(m) - I: E's off-diagonal and input terms, its diagonal less 1; k/m and b/m as
+// fill_model() forms them.
+NearIdentityStepMap<double> exact_near_identity_map(const OscillatorParams& p, int level) noexcept {
+  const Real b_m = wide(p.damping_ns_per_m) / wide(p.mass_kg);
+  const Real k_m = wide(p.stiffness_n_per_m) / wide(p.mass_kg);
+  const Real h = std::ldexp(static_cast<Real>(p.dt_s), -level);
+  return {unbalanced_map(balanced_exponential(k_m, b_m, h, true))};
 }
 
 StepMap<double> linear_step_map(Integrator integrator, double stiffness_over_mass,

@@ -34,12 +34,8 @@ ConfigResult check_end_stops(const OscillatorParams& seat, const EndStopParams& 
                     c.zero_allowed ? " must be >= 0 and <= 1e9" : " must be > 0 and <= 1e9");
     }
   }
-  // In contact the seat is a stiffer, more damped oscillator: the same checks, with the
-  // parameter named as the stop's.
-  OscillatorParams contact = seat;
-  contact.stiffness_n_per_m += stops.stiffness_n_per_m;
-  contact.damping_ns_per_m += stops.damping_ns_per_m;
-  result = discretise(contact, contact_model);
+  // The contact seat (contact_seat()): the same checks, with the parameter named as the stop's.
+  result = discretise(contact_seat(seat, stops), contact_model);
   if (!result.ok()) {
     ConfigResult named;
     named.status = result.status;

@@ -12,19 +12,16 @@ namespace stickslip {
 struct DiscreteModel {
   OscillatorParams params;
   StepMap<double> maps[kMapLevels];  // maps[l] advances dt / 2^l with the chosen integrator
-  // The same maps with their diagonals as differences from 1, each to the precision of a double
-  // (step_map.hpp).
-  NearIdentityStepMap<double> near_identity_maps[kMapLevels];
-  double block_s[kMapLevels];      // dt / 2^l
-  double inv_dt;                   // 1/dt, for the input slope inside a step
-  double inv_mass;                 // 1/m
-  double stiffness_over_mass;      // k/m
-  double damping_over_mass;        // b/m
-  double stribeck_excess_n;        // F_fs - F_fk
-  double inv_stribeck_velocity;    // 1/v_S
-  double smoothing_scale_n;        // F_fk, or F_fk*2/pi for the atan form
-  double natural_frequency_rad_s;  // sqrt(k/m)
-  double spectral_radius;          // of the one-step map linearised at v_r = 0
+  double block_s[kMapLevels];        // dt / 2^l
+  double inv_dt;                     // 1/dt, for the input slope inside a step
+  double inv_mass;                   // 1/m
+  double stiffness_over_mass;        // k/m
+  double damping_over_mass;          // b/m
+  double stribeck_excess_n;          // F_fs - F_fk
+  double inv_stribeck_velocity;      // 1/v_S
+  double smoothing_scale_n;          // F_fk, or F_fk*2/pi for the atan form
+  double natural_frequency_rad_s;    // sqrt(k/m)
+  double spectral_radius;            // of the one-step map linearised at v_r = 0
 };
 
 // How the in-step event search resolves an event. It bisects on the dyadic grid of the step down
@@ -48,6 +45,12 @@ ConfigResult discretise(const OscillatorParams& params, DiscreteModel& out) noex
 // over `step_s` with first-order-hold g. Exposed for tests and tools.
 StepMap<double> linear_step_map(Integrator integrator, double stiffness_over_mass,
                                 double damping_over_mass, double step_s) noexcept;
+
+// The exact integrator's map over dt / 2^level for `params` (as discretise() validates them), with
+// its diagonal as differences from 1, each coefficient to the precision of a double
+// (NearIdentityStepMap, step_map.hpp): for a model that applies many short maps in a row.
+NearIdentityStepMap<double> exact_near_identity_map(const OscillatorParams& params,
+                                                    int level) noexcept;
 
 // Largest eigenvalue modulus of the 2x2 block [[xx, xv], [vx, vv]].
 double spectral_radius(const StepMap<double>& map) noexcept;

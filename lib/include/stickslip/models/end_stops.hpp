@@ -60,6 +60,15 @@ struct EndStopParams {
   double damping_ns_per_m = 2.0e3;   // stop damping b_s (added to b while in contact)
 };
 
+// In contact the seat is a stiffer, more damped oscillator: k + k_s and b + b_s.
+inline OscillatorParams contact_seat(const OscillatorParams& seat,
+                                     const EndStopParams& stops) noexcept {
+  OscillatorParams contact = seat;
+  contact.stiffness_n_per_m += stops.stiffness_n_per_m;
+  contact.damping_ns_per_m += stops.damping_ns_per_m;
+  return contact;
+}
+
 // Validates the stop parameters (finite, travel > 0, k_s > 0, b_s >= 0) and, for the contact
 // mode, what discretise() checks for k + k_s and b + b_s. Names the parameter.
 ConfigResult check_end_stops(const OscillatorParams& seat, const EndStopParams& stops,
@@ -139,11 +148,8 @@ class EndStopOscillator {
       result =
           check_fixed_point_scene(seat, free_model, T::kIntegerBits, T::kFractionBits, kLevels);
       if (!result.ok()) return result;
-      OscillatorParams contact = seat;
-      contact.stiffness_n_per_m += stops.stiffness_n_per_m;
-      contact.damping_ns_per_m += stops.damping_ns_per_m;
       const ConfigResult in_contact = check_fixed_point_scene(
-          contact, contact_model, T::kIntegerBits, T::kFractionBits, kLevels);
+          contact_seat(seat, stops), contact_model, T::kIntegerBits, T::kFractionBits, kLevels);
       if (!in_contact.ok()) {
         result.status = in_contact.status;
         result.message
@@ -160,8 +166,8 @@ class EndStopOscillator {
     }
     for (int l = 0; l <= kLevels; ++l) {
       if constexpr (kNearIdentity) {
-        maps_[0][l] = Map::from_double(free_model.near_identity_maps[l]);
-        maps_[1][l] = Map::from_double(contact_model.near_identity_maps[l]);
+        maps_[0][l] = exact_near_identity_map(seat, l);
+        maps_[1][l] = exact_near_identity_map(contact_seat(seat, stops), l);
       } else {
         maps_[0][l] = Map::from_double(free_model.maps[l]);
         maps_[1][l] = Map::from_double(contact_model.maps[l]);
@@ -291,11 +297,10 @@ class EndStopOscillator {
       }
     } else {
       // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
-      const T anchor = anchor_of(contact_, x_);
-      const T offset = mode_offset(contact_, anchor, slip_force());
-      T x = from_anchor(x_, anchor), v = v_;
-      apply_step_map(whole_map(contact_), x, v, -(in.a0 + offset), -(in.a1 + offset));
-      x = to_anchor(x, anchor);
+      const ModeFrame frame = frame_of(contact_, x_, slip_force());
+      T x = frame.local(x_), v = v_;
+      apply_step_map(whole_map(contact_), x, v, -(in.a0 + frame.offset), -(in.a1 + frame.offset));
+      x = frame.x_r(x);
       const T a_x = seat_acceleration(x, v);
       // v_r' = a_x - a_u: the relative acceleration at both ends, the start's kept from before
       // (with a force, formed again: a change of f_a makes v_r' jump at the step's start).
@@ -388,7 +393,7 @@ class EndStopOscillator {
   }
   // In contact fixed point's maps form the stop's spring force as k_s x - k_s travel, two terms
   // each far larger than their difference: their magnitudes, not the force, set the rounding the
-  // rules below count. Floating point's maps act on the penetration (anchor_of()), whose
+  // rules below count. Floating point's maps act on the penetration (frame_of()), whose
   // rounding these magnitudes bound too.
   T stop_map_terms(T x) const noexcept {
     return contact_ == 0 ? T(0) : stop_stiffness_ * (S::abs(x) + travel_);
@@ -492,48 +497,46 @@ class EndStopOscillator {
       return maps_[c != 0 ? 1 : 0][0];
     }
   }
-  T anchor_of(int c, T x) const noexcept {
-    if constexpr (kAnchored) {
-      return c != 0 && S::abs(x) <= T(2) * travel_ ? travel_ * T(c) : T(0);
-    } else {
-      (void)c, (void)x;
-      return T(0);
+  // A mode's frame as its maps take it: x_r from the anchor, and the mode's constant forces over m
+  // (the maps' input is g = -(a_u + offset)).
+  struct ModeFrame {
+    T anchor;
+    T offset;
+    T local(T x_r) const noexcept {
+      if constexpr (kAnchored) {
+        return x_r - anchor;
+      } else {
+        return x_r;
+      }
     }
-  }
-  static T from_anchor(T x, T anchor) noexcept {
-    if constexpr (kAnchored) {
-      return x - anchor;
-    } else {
-      (void)anchor;
-      return x;
+    T x_r(T local) const noexcept {
+      if constexpr (kAnchored) {
+        return anchor + local;
+      } else {
+        return local;
+      }
     }
-  }
-  static T to_anchor(T p, T anchor) noexcept {
+  };
+  ModeFrame frame_of(int c, T x, T force_n) const noexcept {
     if constexpr (kAnchored) {
-      return anchor + p;
+      if (c != 0 && S::abs(x) <= T(2) * travel_) {
+        const T anchor = travel_ * T(c);
+        return {anchor, inv_mass_ * (force_n + stiffness_ * anchor)};
+      }
     } else {
-      (void)anchor;
-      return p;
+      (void)x;
     }
-  }
-  // The mode's constant forces over m, as the maps' input takes them (g = -(a_u + offset)).
-  T mode_offset(int c, T anchor, T force_n) const noexcept {
-    if constexpr (kAnchored) {
-      if (anchor != T(0)) return inv_mass_ * (force_n + stiffness_ * anchor);
-    } else {
-      (void)anchor;
-    }
-    return inv_mass_ * (force_n - stop_stiffness_ * travel_ * T(c));
+    return {T(0), inv_mass_ * (force_n - stop_stiffness_ * travel_ * T(c))};
   }
 
   // Advances (x, v) from tick `from` by `count` ticks in mode (contact c, friction force_n held),
   // as dyadic blocks (largest first): exact for the mode's linear motion with the FOH input.
   void advance(T& x, T& v, int c, T force_n, unsigned from, unsigned count,
                const Input& in) const noexcept {
-    const T anchor = anchor_of(c, x);
-    const T offset = mode_offset(c, anchor, force_n);
+    const ModeFrame frame = frame_of(c, x, force_n);
+    const T offset = frame.offset;
     const Map* maps = maps_[c != 0 ? 1 : 0];
-    T p = from_anchor(x, anchor);
+    T p = frame.local(x);
     unsigned at = from;
     int first_level = 0;
     if constexpr (kNearIdentity) {
@@ -554,7 +557,7 @@ class EndStopOscillator {
         count -= block;
       }
     }
-    x = to_anchor(p, anchor);
+    x = frame.x_r(p);
   }
 
   // The seat's absolute acceleration at (x, v) while slipping in the current direction (or free):

@@ -22,11 +22,8 @@ namespace stickslip {
 // range quantity is `limit` in scene units; L = 0 where none fits (the configure refuses).
 inline SceneUnits choose_end_stop_scene_units(const OscillatorParams& si,
                                               const EndStopParams& stops, double limit) noexcept {
-  OscillatorParams contact = si;
-  contact.stiffness_n_per_m += stops.stiffness_n_per_m;
-  contact.damping_ns_per_m += stops.damping_ns_per_m;
   SceneUnits units = choose_scene_units(si, limit);
-  const SceneUnits in_contact = choose_scene_units(contact, limit);
+  const SceneUnits in_contact = choose_scene_units(contact_seat(si, stops), limit);
   if (units.length_m == 0.0 || in_contact.length_m == 0.0) {
     units.length_m = 0.0;
   } else {

@@ -387,14 +387,13 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
 template <typename T, typename Law>
 typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_tick_taylor(
     const Input& in, Position& pos, T& x, T& v, bool detect) const noexcept {
-  // On x_r from the mode's anchor, as the maps (anchor_of()): the tick agrees with them.
-  const T anchor = anchor_of(contact_, x);
-  const T offset = mode_offset(contact_, anchor, slip_force());
+  // On x_r from the mode's anchor, as the maps (frame_of()): the tick agrees with them.
+  const ModeFrame frame = frame_of(contact_, x, slip_force());
   const T span = T(1) - pos.frac;
   const T starting = kSticking && v == T(0) ? direction_ : T(0);
-  const TaylorSegment<T> segment(taylor_[contact_ != 0 ? 1 : 0], from_anchor(x, anchor), v,
-                                 -(in.at(phi(pos)) + offset), -(in.a1 - in.a0) * tick_fraction_,
-                                 starting);
+  const TaylorSegment<T> segment(taylor_[contact_ != 0 ? 1 : 0], frame.local(x), v,
+                                 -(in.at(phi(pos)) + frame.offset),
+                                 -(in.a1 - in.a0) * tick_fraction_, starting);
   T end = span;
   Boundary found = Boundary::none;
   if (detect) {
@@ -405,16 +404,17 @@ typename EndStopOscillator<T, Law>::Boundary EndStopOscillator<T, Law>::within_t
         found = Boundary::velocity;
       }
     }
-    const StrokeCrossing c = stroke_crossing(x, to_anchor(segment.position(end), anchor));
+    const StrokeCrossing c = stroke_crossing(x, frame.x_r(segment.position(end)));
     if (c.leaves) {
       // On the edge already at the tick's start (f_lo = 0): the boundary is here.
-      end = c.f_lo < T(0) ? segment.edge_crossing(c.edge - anchor, c.s, T(0), end, c.f_lo, c.f_hi)
-                          : T(0);
+      end = c.f_lo < T(0)
+                ? segment.edge_crossing(frame.local(c.edge), c.s, T(0), end, c.f_lo, c.f_hi)
+                : T(0);
       found = Boundary::stroke;
     }
   }
   const Boundary result = end_on_segment(segment, found, end, pos, x, v);
-  x = to_anchor(x, anchor);
+  x = frame.x_r(x);
   return result;
 }
 

@@ -164,14 +164,16 @@ TEST(Passivity, ExactMapsScaleAreaByTheirExactDeterminantToRoundingOnStiffSeats)
   CHECK_EQUAL(6 * 3 * kMapLevels, maps);
 }
 
-// The same maps near the identity (NearIdentityStepMap) against the closed form of an undamped
-// seat: xx - 1 = vv - 1 = -2 sin^2(omega0 h / 2), xv = sin(omega0 h) / omega0, vx = -omega0
-// sin(omega0 h), each to 2 eps of itself; xx - 1 formed from a rounded xx would be off by up to
+// Double's maps (NearIdentityStepMap) against the closed form of an undamped seat: the identity
+// split off the diagonal where xx = vv = cos(omega0 h) > 1/2, and then xx - 1 = vv - 1 =
+// -2 sin^2(omega0 h / 2), else xx = vv = cos(omega0 h); xv = sin(omega0 h) / omega0, vx = -omega0
+// sin(omega0 h); each to 2 eps of itself. xx - 1 formed from a rounded xx would be off by up to
 // eps / 2 against a value of (omega0 h)^2 / 2: 1 % of it at the finest level of omega0 dt = 0.01.
+// omega0 dt = 1.2 and 2.1 keep the plain diagonal on their coarsest levels.
 TEST(Passivity, ExactMapsNearTheIdentityKeepTheirDiagonalToADoublesPrecision) {
   const double eps = std::numeric_limits<double>::epsilon();
-  int maps = 0;
-  for (const double omega_dt : {0.01, 0.5, 1.5707963267948966, 2.1}) {
+  int maps = 0, split = 0;
+  for (const double omega_dt : {0.01, 0.5, 1.0, 1.2, 2.1}) {
     OscillatorParams p =
         test::reference_params(FrictionModel::linear, Integrator::exact, 1e-3, 0.0);
     p.stiffness_n_per_m = p.mass_kg * (omega_dt / p.dt_s) * (omega_dt / p.dt_s);
@@ -180,19 +182,25 @@ TEST(Passivity, ExactMapsNearTheIdentityKeepTheirDiagonalToADoublesPrecision) {
     using Wide = long double;
     const Wide omega = std::sqrt(Wide(p.stiffness_n_per_m) / Wide(p.mass_kg));
     for (int level = 0; level < kMapLevels; ++level) {
-      const StepMap<double>& m = exact_near_identity_map(p, level).less_identity;
+      const NearIdentityStepMap<double> near = near_identity_step_map(p, level);
+      const StepMap<double>& m = near.rest;
       const Wide h = std::ldexp(Wide(p.dt_s), -level);
       const Wide half = std::sin(omega * h / 2);
-      const Wide diagonal = -2 * half * half;
+      const bool near_one = std::cos(omega * h) > 0.5L;
+      const Wide diagonal = near_one ? -2 * half * half : std::cos(omega * h);
       const Wide xv = std::sin(omega * h) / omega, vx = -omega * std::sin(omega * h);
+      CHECK_EQUAL(near_one ? 1.0 : 0.0, near.identity_x);
+      CHECK_EQUAL(near_one ? 1.0 : 0.0, near.identity_v);
       CHECK(std::fabs(Wide(m.xx) - diagonal) <= 2 * eps * std::fabs(diagonal));
       CHECK(std::fabs(Wide(m.vv) - diagonal) <= 2 * eps * std::fabs(diagonal));
       CHECK(std::fabs(Wide(m.xv) - xv) <= 2 * eps * std::fabs(xv));
       CHECK(std::fabs(Wide(m.vx) - vx) <= 2 * eps * std::fabs(vx));
       ++maps;
+      split += near_one ? 1 : 0;
     }
   }
-  CHECK_EQUAL(4 * kMapLevels, maps);
+  CHECK_EQUAL(5 * kMapLevels, maps);
+  CHECK_EQUAL(5 * kMapLevels - 3, split);  // 1.2: level 0; 2.1: levels 0 and 1 (cos 1.05 = 0.498)
 }
 
 // Symplectic and RK4 with b > 0 inside their stability limits: E never exceeds 1.01 E0, from

@@ -484,13 +484,32 @@ double spectral_radius(const StepMap<double>& m) noexcept {
   return static_cast<double>(a > b ? a : b);
 }
 
-// From exp(m) - I: E's off-diagonal and input terms, its diagonal less 1; k/m and b/m as
-// fill_model() forms them.
-NearIdentityStepMap<double> exact_near_identity_map(const OscillatorParams& p, int level) noexcept {
+// The exact integrator's from exp(m) - I: E's off-diagonal and input terms, and each diagonal
+// term, xx or vv, as itself or less 1, whichever is smaller (at most 1/2 then); k/m and b/m as
+// fill_model() forms them. The other integrators' from their map, where the difference is exact.
+NearIdentityStepMap<double> near_identity_step_map(const OscillatorParams& p, int level) noexcept {
   const Real b_m = wide(p.damping_ns_per_m) / wide(p.mass_kg);
   const Real k_m = wide(p.stiffness_n_per_m) / wide(p.mass_kg);
   const Real h = std::ldexp(static_cast<Real>(p.dt_s), -level);
-  return {unbalanced_map(balanced_exponential(k_m, b_m, h, true))};
+  NearIdentityStepMap<double> out{};
+  Real xx = 0, vv = 0;  // the diagonal less 1
+  if (p.integrator == Integrator::exact) {
+    const BalancedExponential e = balanced_exponential(k_m, b_m, h, true);
+    out.rest = unbalanced_map(e);
+    xx = e.e.a[0][0];
+    vv = e.e.a[1][1];
+  } else {
+    out.rest = map_for(p.integrator, k_m, b_m, h);
+    xx = wide(out.rest.xx) - 1;
+    vv = wide(out.rest.vv) - 1;
+  }
+  const auto split = [](Real less_one, double& rest, double& identity) {
+    identity = less_one > -0.5L ? 1.0 : 0.0;
+    rest = static_cast<double>(identity > 0.0 ? less_one : less_one + 1);
+  };
+  split(xx, out.rest.xx, out.identity_x);
+  split(vv, out.rest.vv, out.identity_v);
+  return out;
 }
 
 StepMap<double> linear_step_map(Integrator integrator, double stiffness_over_mass,

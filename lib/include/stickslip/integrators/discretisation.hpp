@@ -46,11 +46,13 @@ ConfigResult discretise(const OscillatorParams& params, DiscreteModel& out) noex
 StepMap<double> linear_step_map(Integrator integrator, double stiffness_over_mass,
                                 double damping_over_mass, double step_s) noexcept;
 
-// The exact integrator's map over dt / 2^level for `params` (as discretise() validates them), with
-// its diagonal as differences from 1, each coefficient to the precision of a double
-// (NearIdentityStepMap, step_map.hpp): for a model that applies many short maps in a row.
-NearIdentityStepMap<double> exact_near_identity_map(const OscillatorParams& params,
-                                                    int level) noexcept;
+// The map over dt / 2^level of `params`' integrator (params as discretise() validates them),
+// less the identity (NearIdentityStepMap, step_map.hpp): double's form of every map. For the
+// exact integrator every coefficient is the exact one to a double's precision, xx - 1 and vv - 1
+// included; the other integrators' diagonals are their map's less 1, since their own truncation
+// is far above the double's rounding of xx.
+NearIdentityStepMap<double> near_identity_step_map(const OscillatorParams& params,
+                                                   int level) noexcept;
 
 // Largest eigenvalue modulus of the 2x2 block [[xx, xv], [vx, vv]].
 double spectral_radius(const StepMap<double>& map) noexcept;

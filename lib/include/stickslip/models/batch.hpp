@@ -49,7 +49,7 @@ class StickSlipBatch {
     ConfigResult result = lanes_[lane].configure(params);
     if (!result.ok()) return result;
     const Lane& o = lanes_[lane];
-    const StepMap<T>& m = o.maps_[0];
+    const StepMap<T>& m = coefficients(o.maps_[0]);
     xx_[lane] = m.xx;
     xv_[lane] = m.xv;
     vx_[lane] = m.vx;
@@ -58,6 +58,10 @@ class StickSlipBatch {
     gx1_[lane] = m.gx1;
     gv0_[lane] = m.gv0;
     gv1_[lane] = m.gv1;
+    if constexpr (kSplit) {
+      identity_x_[lane] = o.maps_[0].identity_x;
+      identity_v_[lane] = o.maps_[0].identity_v;
+    }
     k_over_m_[lane] = o.k_over_m_;
     b_over_m_[lane] = o.b_over_m_;
     // (1/m) F_fk: times d = +-1 it is bit for bit the single oscillator's (1/m)(F_fk d).
@@ -93,7 +97,8 @@ class StickSlipBatch {
       const T a1 = finite_input ? raw : a0;
       const T x = now.x[i], v = now.v[i], d = direction_[i];
       const Bits stuck = stuck_mask_[i];
-      const StepMap<T> map{xx_[i], xv_[i], vx_[i], vv_[i], gx0_[i], gx1_[i], gv0_[i], gv1_[i]};
+      const StepMap<T> rest{xx_[i], xv_[i], vx_[i], vv_[i], gx0_[i], gx1_[i], gv0_[i], gv1_[i]};
+      const Map map = lane_map(rest, i);
       const WholeSlip<T> moved = whole_step_slip(map, k_over_m_[i], b_over_m_[i],
                                                  kinetic_accel_[i] * d, x, v, now.a_x[i], a0, a1);
       const T limit = stuck_limit_force(mass_kg_[i], stiffness_[i], x, a1);
@@ -214,9 +219,23 @@ class StickSlipBatch {
     events_[i] = out.events;
   }
 
+  // The lanes' maps in their form: double's with the identity split off (step_map.hpp).
+  using Map = typename Lane::Map;
+  static constexpr bool kSplit = !std::is_same_v<Map, StepMap<T>>;
+  Map lane_map(const StepMap<T>& rest, std::size_t i) const noexcept {
+    if constexpr (kSplit) {
+      return {rest, identity_x_[i], identity_v_[i]};
+    } else {
+      (void)i;
+      return rest;
+    }
+  }
+
   Lane lanes_[N];
   // Coefficients (structure of arrays, copied from the lanes at configure time).
   alignas(64) T xx_[N]{}, xv_[N]{}, vx_[N]{}, vv_[N]{};
+  // Double: the identity split off each lane's map; nothing for the other scalars.
+  alignas(64) std::conditional_t<kSplit, T[N], T[1]> identity_x_{}, identity_v_{};
   alignas(64) T gx0_[N]{}, gx1_[N]{}, gv0_[N]{}, gv1_[N]{};
   alignas(64) T k_over_m_[N]{}, b_over_m_[N]{}, kinetic_accel_[N]{}, kinetic_n_[N]{};
   alignas(64) T static_n_[N]{};

@@ -13,7 +13,7 @@
 // of 2^16 ticks (16 blocks, then bisection down to one tick), and inside that tick the boundary is
 // solved for on the mode's Taylor polynomial (models/detail/end_stop_search.hpp); break-away,
 // where F_L is linear in time, directly. In double the trajectory then agrees with the exact
-// event-driven solution to rounding (tests/host/test_end_stop_exactness.cpp: a_x 1e-14..1e-12
+// event-driven solution to rounding (tests/host/test_end_stop_exactness.cpp: a_x 2e-15..2e-14
 // RMS in contact, the plain oscillator to 2e-15 with the stops out of reach). A contact or a
 // double crossing of v_r = 0 shorter than a sixteenth of the step may go unseen; it moves the
 // state by no more than that short interval can.
@@ -165,17 +165,13 @@ class EndStopOscillator {
       if (!result.ok()) return result;
     }
     for (int l = 0; l <= kLevels; ++l) {
-      if constexpr (kNearIdentity) {
-        maps_[0][l] = exact_near_identity_map(seat, l);
-        maps_[1][l] = exact_near_identity_map(contact_seat(seat, stops), l);
-      } else {
+      if constexpr (std::is_same_v<Map, StepMap<T>>) {
         maps_[0][l] = Map::from_double(free_model.maps[l]);
         maps_[1][l] = Map::from_double(contact_model.maps[l]);
+      } else {
+        maps_[0][l] = Map::from_double(near_identity_step_map(seat, l));
+        maps_[1][l] = Map::from_double(near_identity_step_map(contact_seat(seat, stops), l));
       }
-    }
-    if constexpr (kNearIdentity) {
-      whole_maps_[0] = StepMap<T>::from_double(free_model.maps[0]);
-      whole_maps_[1] = StepMap<T>::from_double(contact_model.maps[0]);
     }
     mass_kg_ = S::from_double(seat.mass_kg);
     inv_mass_ = S::from_double(free_model.inv_mass);
@@ -299,7 +295,8 @@ class EndStopOscillator {
       // Slipping (or free): the whole step in the current mode, if nothing happens inside it.
       const ModeFrame frame = frame_of(contact_, x_, slip_force());
       T x = frame.local(x_), v = v_;
-      apply_step_map(whole_map(contact_), x, v, -(in.a0 + frame.offset), -(in.a1 + frame.offset));
+      apply_step_map(maps_[contact_ != 0 ? 1 : 0][0], x, v, -(in.a0 + frame.offset),
+                     -(in.a1 + frame.offset));
       x = frame.x_r(x);
       const T a_x = seat_acceleration(x, v);
       // v_r' = a_x - a_u: the relative acceleration at both ends, the start's kept from before
@@ -481,22 +478,9 @@ class EndStopOscillator {
   // absolute unit whatever the size of its terms: there the maps act on x_r itself, and the
   // firmware's Q7.24 step is the same.
   static constexpr bool kAnchored = !S::kTracksSaturation;
-  // Double also keeps its block maps' diagonals as differences from 1 (NearIdentityStepMap,
-  // integrators/step_map.hpp): rounded to a double, xx and vv carry an error of one sign that the
-  // 20 block maps on the way to each contact turned into 1e-15 of the energy a contact. The whole
-  // step's map stays the plain oscillator's (whole_maps_), so that a step without events out of
-  // reach of the stops is the plain seat's step bit for bit. Float's own rounding (6e-8) is far
-  // above that error, and on the Cortex-M4F the two additions a map cost 10 % of the end-stop
-  // seat's instructions per frame: float keeps its plain maps.
-  static constexpr bool kNearIdentity = std::is_same_v<T, double>;
-  using Map = std::conditional_t<kNearIdentity, NearIdentityStepMap<T>, StepMap<T>>;
-  const StepMap<T>& whole_map(int c) const noexcept {
-    if constexpr (kNearIdentity) {
-      return whole_maps_[c != 0 ? 1 : 0];
-    } else {
-      return maps_[c != 0 ? 1 : 0][0];
-    }
-  }
+  // Each mode's maps, as the plain seat's: double's near the identity (StepMapOf, step_map.hpp),
+  // so that out of reach of the stops a step without events is the plain seat's bit for bit.
+  using Map = StepMapOf<T>;
   // A mode's frame as its maps take it: x_r from the anchor, and the mode's constant forces over m
   // (the maps' input is g = -(a_u + offset)).
   struct ModeFrame {
@@ -538,17 +522,7 @@ class EndStopOscillator {
     const Map* maps = maps_[c != 0 ? 1 : 0];
     T p = frame.local(x);
     unsigned at = from;
-    int first_level = 0;
-    if constexpr (kNearIdentity) {
-      if (count >= kTicks) {  // the whole step: the common path's map
-        apply_step_map(whole_map(c), p, v, -(in.at(T(at) * tick_fraction_) + offset),
-                       -(in.at(T(at + kTicks) * tick_fraction_) + offset));
-        at += kTicks;
-        count -= kTicks;
-      }
-      first_level = 1;
-    }
-    for (int level = first_level; level <= kLevels && count > 0; ++level) {
+    for (int level = 0; level <= kLevels && count > 0; ++level) {
       const unsigned block = kTicks >> level;
       while (count >= block) {
         apply_step_map(maps[level], p, v, -(in.at(T(at) * tick_fraction_) + offset),
@@ -734,9 +708,7 @@ class EndStopOscillator {
     return o;
   }
 
-  Map maps_[2][kLevels + 1]{};  // [free, contact][level]
-  // Double: [free, contact], the whole step (whole_map()); nothing for the other scalars.
-  std::conditional_t<kNearIdentity, StepMap<T>[2], std::uint8_t[1]> whole_maps_ {};
+  Map maps_[2][kLevels + 1]{};         // [free, contact][level]
   TaylorCoefficients<T> taylor_[2]{};  // [free, contact], one tick
   T mass_kg_{}, inv_mass_{}, stiffness_{}, damping_{};
   T stop_stiffness_{}, stop_damping_{}, travel_{};

@@ -131,7 +131,11 @@ class Oscillator {
     }
     if (!result.ok()) return result;
     for (int level = 0; level < kMapLevels; ++level) {
-      maps_[level] = StepMap<T>::from_double(model.maps[level]);
+      if constexpr (std::is_same_v<Map, StepMap<T>>) {
+        maps_[level] = StepMap<T>::from_double(model.maps[level]);
+      } else {
+        maps_[level] = Map::from_double(near_identity_step_map(params, level));
+      }
       block_s_[level] = S::from_double(model.block_s[level]);
     }
     dt_s_ = S::from_double(params.dt_s);
@@ -576,7 +580,8 @@ class Oscillator {
   }
 
   // Coefficients (read-only after configure).
-  StepMap<T> maps_[kMapLevels]{};
+  using Map = StepMapOf<T>;  // double's near the identity (step_map.hpp)
+  Map maps_[kMapLevels]{};
   T block_s_[kMapLevels]{};
   T dt_s_{}, tick_s_{}, inv_dt_{}, mass_kg_{}, stiffness_{}, inv_mass_{}, k_over_m_{}, b_over_m_{};
   FrictionCoefficients<T> friction_{};

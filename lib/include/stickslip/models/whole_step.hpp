@@ -52,11 +52,11 @@ struct WholeSlip {
 
 // A whole step slipping in direction d (+1/-1) against the constant friction F_fk d, given as
 // the acceleration friction_accel = (1/m)(F_fk d), from (x, v), whose seat acceleration with that
-// friction is a_x_start, with the input a0 -> a1. `map` advances one whole step.
-template <typename T>
-constexpr WholeSlip<T> whole_step_slip(const StepMap<T>& map, T k_over_m, T b_over_m,
-                                       T friction_accel, T x, T v, T a_x_start, T a0,
-                                       T a1) noexcept {
+// friction is a_x_start, with the input a0 -> a1. `map` advances one whole step (a StepMap or a
+// NearIdentityStepMap).
+template <typename T, typename Map>
+constexpr WholeSlip<T> whole_step_slip(const Map& map, T k_over_m, T b_over_m, T friction_accel,
+                                       T x, T v, T a_x_start, T a0, T a1) noexcept {
   T x_end = x, v_end = v;
   apply_step_map(map, x_end, v_end, -(a0 + friction_accel), -(a1 + friction_accel));
   const T a_x_end = seat_acceleration(k_over_m, b_over_m, x_end, v_end, friction_accel);

@@ -284,6 +284,36 @@ TEST(EndStopExactness, UndampedContactStaysWithinTheSpreadOfExactSolutions) {
   }
 }
 
+// An undamped scene drawn at random (seeded): a seat of 40-140 kg and 3.2e3-3.2e4 N/m with
+// Coulomb stick-slip (F_fk 5 N to max_kinetic_n, F_fs up to 1.4 F_fk) or no friction, a
+// wide-band (even i) or lorry floor of 0.5-3.5 m/s^2, stops of 3e4-1e6 N/m at 0.5-1.5 times the
+// RMS free stroke; no damping anywhere.
+namespace {
+struct UndampedScene {
+  OscillatorParams seat;
+  EndStopParams stops;
+  std::vector<double> a_u;
+};
+constexpr double kDts[3] = {5e-4, 1e-3, 2e-3};
+UndampedScene random_undamped_scene(test::SplitMix64& draw, int i, bool sticking, double dt_s,
+                                    double max_kinetic_n, std::uint64_t floor_seed) {
+  UndampedScene scene;
+  OscillatorParams& p = scene.seat;
+  p = test::reference_params(sticking ? FrictionModel::stick_slip : FrictionModel::linear,
+                             Integrator::exact, dt_s, 0.0);
+  p.mass_kg = draw.uniform(40.0, 140.0);
+  p.stiffness_n_per_m = std::pow(10.0, draw.uniform(3.5, 4.5));
+  p.kinetic_friction_n = sticking ? draw.uniform(5.0, max_kinetic_n) : 0.0;
+  p.static_friction_n = p.kinetic_friction_n * draw.uniform(1.0, 1.4);
+  const SignalKind kind = i % 2 == 0 ? SignalKind::wideband : SignalKind::lorry;
+  scene.a_u = floor_signal(kind, draw.uniform(0.5, 3.5), p.dt_s, floor_seed);
+  scene.stops.travel_m = rms_free_stroke(p, scene.a_u) * draw.uniform(0.5, 1.5);
+  scene.stops.stiffness_n_per_m = std::pow(10.0, draw.uniform(4.5, 6.0));
+  scene.stops.damping_ns_per_m = 0.0;
+  return scene;
+}
+}  // namespace
+
 // What the spread above cannot tell apart: a core that rounds every step but is exact, and one
 // with a small error of its own, since with nothing damped both drift by more than the spread on
 // some seats (an integrator rounds its state every step; an undamped seat between contacts keeps
@@ -302,21 +332,11 @@ TEST(EndStopExactness, UndampedStepFromTheExactStateLandsOnTheExactSolutionToRou
   long free_steps = 0, contact_steps = 0, crossing_steps = 0, stuck_steps = 0;
   for (int i = 0; i < 12; ++i) {
     const bool sticking = i % 3 != 2;
-    const double dts[3] = {5e-4, 1e-3, 2e-3};
-    OscillatorParams p =
-        test::reference_params(sticking ? FrictionModel::stick_slip : FrictionModel::linear,
-                               Integrator::exact, dts[i % 3], 0.0);
-    p.mass_kg = draw.uniform(40.0, 140.0);
-    p.stiffness_n_per_m = std::pow(10.0, draw.uniform(3.5, 4.5));
-    p.kinetic_friction_n = sticking ? draw.uniform(5.0, 65.0) : 0.0;
-    p.static_friction_n = p.kinetic_friction_n * draw.uniform(1.0, 1.4);
-    const SignalKind kind = i % 2 == 0 ? SignalKind::wideband : SignalKind::lorry;
-    const std::vector<double> a_u =
-        floor_signal(kind, draw.uniform(0.5, 3.5), p.dt_s, 1 + static_cast<std::uint64_t>(i));
-    EndStopParams s;
-    s.travel_m = rms_free_stroke(p, a_u) * draw.uniform(0.5, 1.5);
-    s.stiffness_n_per_m = std::pow(10.0, draw.uniform(4.5, 6.0));
-    s.damping_ns_per_m = 0.0;
+    const UndampedScene scene =
+        random_undamped_scene(draw, i, sticking, kDts[i % 3], 65.0, 1 + std::uint64_t(i));
+    const OscillatorParams& p = scene.seat;
+    const EndStopParams& s = scene.stops;
+    const std::vector<double>& a_u = scene.a_u;
     const ReferenceTrace exact = solve_reference(p, s, a_u);
     const double x_scale = rms(exact.x_r_m), v_scale = rms(exact.v_r_m_per_s);
     double seat_worst = 0.0;
@@ -369,21 +389,11 @@ TEST(EndStopExactness, UndampedRandomSeatsStayWithinTheSpreadOfExactSolutions) {
   double worst_ratio = 0.0;
   for (int i = 0; i < 12; ++i) {
     const bool sticking = i % 3 == 0;
-    const double dts[3] = {5e-4, 1e-3, 2e-3};
-    OscillatorParams p =
-        test::reference_params(sticking ? FrictionModel::stick_slip : FrictionModel::linear,
-                               Integrator::exact, dts[(i / 3) % 3], 0.0);
-    p.mass_kg = draw.uniform(40.0, 140.0);
-    p.stiffness_n_per_m = std::pow(10.0, draw.uniform(3.5, 4.5));
-    p.kinetic_friction_n = sticking ? draw.uniform(5.0, 45.0) : 0.0;
-    p.static_friction_n = p.kinetic_friction_n * draw.uniform(1.0, 1.4);
-    const SignalKind kind = i % 2 == 0 ? SignalKind::wideband : SignalKind::lorry;
-    const std::vector<double> a_u =
-        floor_signal(kind, draw.uniform(0.5, 3.5), p.dt_s, 40 + static_cast<std::uint64_t>(i));
-    EndStopParams s;
-    s.travel_m = rms_free_stroke(p, a_u) * draw.uniform(0.5, 1.5);
-    s.stiffness_n_per_m = std::pow(10.0, draw.uniform(4.5, 6.0));
-    s.damping_ns_per_m = 0.0;
+    const UndampedScene scene =
+        random_undamped_scene(draw, i, sticking, kDts[(i / 3) % 3], 45.0, 40 + std::uint64_t(i));
+    const OscillatorParams& p = scene.seat;
+    const EndStopParams& s = scene.stops;
+    const std::vector<double>& a_u = scene.a_u;
     const auto check_within = [&](const History& got, const ReferenceTrace& exact,
                                   const Deviation& spread) {
       const Deviation d = against_reference(got, exact, p.dt_s);
@@ -398,20 +408,19 @@ TEST(EndStopExactness, UndampedRandomSeatsStayWithinTheSpreadOfExactSolutions) {
                   free_exact, p.dt_s);
     const ReferenceTrace exact = solve_reference(p, s, a_u);
     const Deviation spread = spread_of_exact_solutions(p, s, a_u, exact);
+    const auto plain_and_with_stops = [&](auto law) {
+      using Law = decltype(law);
+      Oscillator<double, Law> plain;
+      CHECK_TRUE(plain.configure(p).ok());
+      check_within(run_history(plain, a_u, p.dt_s), free_exact, free_spread);
+      EndStopOscillator<double, Law> model;
+      CHECK_TRUE(model.configure(p, s).ok());
+      check_within(counted_history(model, a_u, p.dt_s), exact, spread);
+    };
     if (sticking) {
-      Oscillator<double, CoulombStickSlip> plain;
-      CHECK_TRUE(plain.configure(p).ok());
-      check_within(run_history(plain, a_u, p.dt_s), free_exact, free_spread);
-      EndStopOscillator<double, CoulombStickSlip> model;
-      CHECK_TRUE(model.configure(p, s).ok());
-      check_within(counted_history(model, a_u, p.dt_s), exact, spread);
+      plain_and_with_stops(CoulombStickSlip{});
     } else {
-      Oscillator<double, NoFriction> plain;
-      CHECK_TRUE(plain.configure(p).ok());
-      check_within(run_history(plain, a_u, p.dt_s), free_exact, free_spread);
-      EndStopOscillator<double, NoFriction> model;
-      CHECK_TRUE(model.configure(p, s).ok());
-      check_within(counted_history(model, a_u, p.dt_s), exact, spread);
+      plain_and_with_stops(NoFriction{});
     }
     with_contacts += exact.contacts > 0 ? 1 : 0;
   }

@@ -485,7 +485,7 @@ double spectral_radius(const StepMap<double>& m) noexcept {
 }
 
 // The exact integrator's from exp(m) - I: E's off-diagonal and input terms, and each diagonal
-// term, xx or vv, as itself or less 1, whichever is smaller (at most 1/2 then); k/m and b/m as
+// term, xx or vv, as itself or less 1, whichever is the smaller; k/m and b/m as
 // fill_model() forms them. The other integrators' from their map, where the difference is exact.
 NearIdentityStepMap<double> near_identity_step_map(const OscillatorParams& p, int level) noexcept {
   const Real b_m = wide(p.damping_ns_per_m) / wide(p.mass_kg);

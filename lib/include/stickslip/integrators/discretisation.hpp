@@ -47,10 +47,10 @@ StepMap<double> linear_step_map(Integrator integrator, double stiffness_over_mas
                                 double damping_over_mass, double step_s) noexcept;
 
 // The map over dt / 2^level of `params`' integrator (params as discretise() validates them),
-// less the identity (NearIdentityStepMap, step_map.hpp): double's form of every map. For the
-// exact integrator every coefficient is the exact one to a double's precision, xx - 1 and vv - 1
-// included; the other integrators' diagonals are their map's less 1, since their own truncation
-// is far above the double's rounding of xx.
+// with the identity split off its diagonal where xx > 1/2 (NearIdentityStepMap, step_map.hpp):
+// double's form of every map. For the exact integrator every coefficient is the exact one to a
+// double's precision, xx - 1 and vv - 1 included; the other integrators' diagonals are their
+// map's less 1, since their own truncation is far above the double's rounding of xx.
 NearIdentityStepMap<double> near_identity_step_map(const OscillatorParams& params,
                                                    int level) noexcept;
 

@@ -85,10 +85,10 @@ constexpr const StepMap<T>& coefficients(const NearIdentityStepMap<T>& m) noexce
 }
 
 // The identity's share added last, to what the map moves: the loop-carried dependency is one
-// multiply and three adds, one add more than the plain map's (the whole double step about 12 %
-// slower, bench_step). Adding the identity's share to the input part first keeps the plain
-// map's dependency but rounds x + g every step, a rounding that follows the orbit: with it the
-// energy grid of docs/DESIGN.md drifted 25 times as much (median 3.2e-11 against 1.3e-12, worst
+// multiply and three adds, one add more than the plain map's (the whole double step 10 to 19 %
+// slower, stickslip_bench_step). Adding the identity's share to the input part first keeps the
+// plain map's dependency but rounds x + g every step, a rounding that follows the orbit: with it
+// the energy grid of docs/DESIGN.md drifted 25 times as much (median 3.2e-11 against 1.3e-12, worst
 // 7.2e-10). Where nothing is split off (identity 0) the sum is the plain map's, bit for bit.
 template <typename T>
 STICKSLIP_COMPACT_INLINE constexpr void apply_step_map(const NearIdentityStepMap<T>& near, T& x,

@@ -54,6 +54,20 @@ StepMap<double> linear_step_map(Integrator integrator, double stiffness_over_mas
 NearIdentityStepMap<double> near_identity_step_map(const OscillatorParams& params,
                                                    int level) noexcept;
 
+// A model's map over dt / 2^level in the form its scalar keeps (StepMapOf): double's from
+// near_identity_step_map(params, ...), the others' from model.maps (model discretised from params).
+template <typename T>
+StepMapOf<T> step_map_of(const DiscreteModel& model, const OscillatorParams& params,
+                         int level) noexcept {
+  if constexpr (std::is_same_v<StepMapOf<T>, StepMap<T>>) {
+    (void)params;
+    return StepMap<T>::from_double(model.maps[level]);
+  } else {
+    (void)model;
+    return StepMapOf<T>::from_double(near_identity_step_map(params, level));
+  }
+}
+
 // Largest eigenvalue modulus of the 2x2 block [[xx, xv], [vx, vv]].
 double spectral_radius(const StepMap<double>& map) noexcept;
 

@@ -165,13 +165,8 @@ class EndStopOscillator {
       if (!result.ok()) return result;
     }
     for (int l = 0; l <= kLevels; ++l) {
-      if constexpr (std::is_same_v<Map, StepMap<T>>) {
-        maps_[0][l] = Map::from_double(free_model.maps[l]);
-        maps_[1][l] = Map::from_double(contact_model.maps[l]);
-      } else {
-        maps_[0][l] = Map::from_double(near_identity_step_map(seat, l));
-        maps_[1][l] = Map::from_double(near_identity_step_map(contact_seat(seat, stops), l));
-      }
+      maps_[0][l] = step_map_of<T>(free_model, seat, l);
+      maps_[1][l] = step_map_of<T>(contact_model, contact_seat(seat, stops), l);
     }
     mass_kg_ = S::from_double(seat.mass_kg);
     inv_mass_ = S::from_double(free_model.inv_mass);

@@ -131,11 +131,7 @@ class Oscillator {
     }
     if (!result.ok()) return result;
     for (int level = 0; level < kMapLevels; ++level) {
-      if constexpr (std::is_same_v<Map, StepMap<T>>) {
-        maps_[level] = StepMap<T>::from_double(model.maps[level]);
-      } else {
-        maps_[level] = Map::from_double(near_identity_step_map(params, level));
-      }
+      maps_[level] = step_map_of<T>(model, params, level);
       block_s_[level] = S::from_double(model.block_s[level]);
     }
     dt_s_ = S::from_double(params.dt_s);

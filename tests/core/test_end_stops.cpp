@@ -11,6 +11,7 @@
 #include "oracles.hpp"
 #include "stickslip/friction/laws.hpp"
 #include "stickslip/models/end_stops.hpp"
+#include "stop_seats.hpp"
 #include "support/allocation_counter.hpp"
 
 using namespace stickslip;
@@ -271,71 +272,23 @@ TEST(EndStops, SeatHeldAtItsBreakAwayThresholdSpendsNoEventsOnRounding) {
 
 namespace {
 
-// A random seat (test::random_sticking_seat()) with stops 5-55 mm out, omega dt in contact from
-// 0.02 to 1.4 and their damping 0 (two in five) or up to 3000 N s/m.
-struct RandomStopSeat {
-  OscillatorParams seat;
-  EndStopParams stops;
-};
-
-RandomStopSeat random_stop_seat(test::SplitMix64& random, FrictionModel model) {
-  RandomStopSeat r;
-  r.seat = test::random_sticking_seat(random, model);
-  const OscillatorParams& p = r.seat;
-  r.stops.travel_m = random.uniform(0.005, 0.055);
-  const double contact_rate = random.uniform(0.02, 1.4) / p.dt_s;  // omega in contact
-  r.stops.stiffness_n_per_m =
-      std::max(1.0e4, contact_rate * contact_rate * p.mass_kg - p.stiffness_n_per_m);
-  r.stops.damping_ns_per_m = random.uniform(0.0, 1.0) < 0.4 ? 0.0 : random.uniform(0.0, 3000.0);
-  return r;
-}
-
-// Float forms the stop's force in contact from k_s x and k_s travel, so it resolves the force at
-// the stop to about eps k_s travel: the seats whose friction float can tell from that rounding,
-// 16 eps k_s travel <= F_fs / 16 (DESIGN.md, "Rounding at the break-away threshold").
-bool float_resolves_the_friction_at_the_stop(const RandomStopSeat& r) {
-  const double rounding_n = 16.0 * static_cast<double>(std::numeric_limits<float>::epsilon()) *
-                            r.stops.stiffness_n_per_m * r.stops.travel_m;
-  return rounding_n <= r.seat.static_friction_n / 16.0;
-}
+using test::RandomStopSeat;
 
 struct HostileRun {
   int most_events = 0;
   std::uint64_t exhausted = 0, contacts = 0, stuck_in_contact = 0;
 };
 
-// Phases of 0.3 s: a floor of white noise up to 30 m/s^2; a drive to either stop (a critically
-// damped approach at 10 Hz to its edge +-10 % with a force up to 2 F_fs); the limit force held
-// on +-F_fs (alternating every 7 samples, offsets down to 1e-8 m/s^2), at a stop or free; swings
-// of 1.5 to 9.5 F_fs. The floor is chosen from the seat's own state, the stop's force in F_L.
+// The floors of test::hostile_stop_floor(), chosen from the seat's own state.
 template <typename T, typename Law>
 void run_hostile_floor(const RandomStopSeat& r, std::uint64_t seed, long steps, HostileRun& run) {
   EndStopOscillator<T, Law> model;
   CHECK_TRUE(model.configure(r.seat, r.stops).ok());
   test::SplitMix64 random(seed);
-  const double m = r.seat.mass_kg, f_fs = r.seat.static_friction_n, w = 2.0 * kPi * 10.0;
   for (long n = 0; n < steps; ++n) {
-    const double x = static_cast<double>(model.x_r()), v = static_cast<double>(model.v_r());
-    const double holding =
-        -(r.seat.stiffness_n_per_m * x + static_cast<double>(model.stop_force_n())) / m;
-    double a_u = 0.0;
-    switch ((n / 300) % 4) {
-      case 0:
-        a_u = test::hostile_floor(test::HostileFloor::noise, n, holding, f_fs / m, random);
-        break;
-      case 1: {
-        const double side = (n / 900) % 2 == 0 ? -1.0 : 1.0;
-        const double edge = side * r.stops.travel_m * random.uniform(0.9, 1.1);
-        a_u = w * w * (x - edge) + 2.0 * w * v + holding + 2.0 * f_fs / m * random.uniform(-1, 1);
-        break;
-      }
-      case 2:
-        a_u = test::hostile_floor(test::HostileFloor::threshold, n, holding, f_fs / m, random);
-        break;
-      default:
-        a_u = test::hostile_floor(test::HostileFloor::swing, n, holding, f_fs / m, random);
-    }
-    if (!(std::fabs(a_u) <= 200.0)) a_u = 0.0;  // a seat thrown far into a stiff stop
+    const double a_u = test::hostile_stop_floor(r, n, static_cast<double>(model.x_r()),
+                                                static_cast<double>(model.v_r()),
+                                                static_cast<double>(model.stop_force_n()), random);
     const StepOutput<T> out = model.step(static_cast<T>(a_u));
     run.most_events = std::max(run.most_events, static_cast<int>(out.events));
     if (out.stuck && model.contact() != 0) ++run.stuck_in_contact;
@@ -351,10 +304,10 @@ void hostile_floors_on_random_seats(FrictionModel model, std::uint64_t seed) {
   HostileRun in_double, in_float;
   int float_seats = 0;
   for (int i = 0; i < 40; ++i) {
-    const RandomStopSeat r = random_stop_seat(random, model);
+    const RandomStopSeat r = test::random_stop_seat(random, model);
     const std::uint64_t floor_seed = random.next();
     run_hostile_floor<double, Law>(r, floor_seed, 6000, in_double);
-    if (float_resolves_the_friction_at_the_stop(r)) {
+    if (test::float_resolves_the_friction_at_the_stop(r)) {
       ++float_seats;
       run_hostile_floor<float, Law>(r, floor_seed, 6000, in_float);
     }

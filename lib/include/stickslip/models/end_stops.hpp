@@ -98,11 +98,17 @@ class EndStopOscillator {
   static constexpr int kLevels = kCubic ? 0 : kEventLevels;
   static constexpr unsigned kTicks = 1u << kLevels;
   static constexpr unsigned kScanBlock = kTicks >= 16 ? kTicks / 16 : 1;  // the event scan's block
-  static constexpr int kBudget = kMaxEventsPerStep;
 
  public:
   using Scalar = T;
   using FrictionLaw = Law;
+  // Events located in one step at most: the safety limit kMaxEventsPerStep (contacts and
+  // releases come on top of the friction's events), or a smaller budget the law declares
+  // (step_common.hpp). At the budget the step finishes in its mode without a search, and every
+  // step that reaches it before its end is counted in event_budget_exhausted().
+  static constexpr int kEventBudget = law_detail::event_budget<Law>(kMaxEventsPerStep);
+  static_assert(kEventBudget >= 1 && kEventBudget <= kMaxEventsPerStep,
+                "a law's declared event budget must be 1 to kMaxEventsPerStep");
 
   ConfigResult configure(const OscillatorParams& seat, const EndStopParams& stops) noexcept {
     DiscreteModel free_model, contact_model;

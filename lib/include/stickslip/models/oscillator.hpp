@@ -40,20 +40,6 @@ namespace stickslip {
 template <typename T, std::size_t N>
 class StickSlipBatch;
 
-namespace law_detail {
-// A law's declared event budget, or 0 where it declares none.
-template <typename Law, typename = void>
-inline constexpr int kDeclaredEventBudget = 0;
-template <typename Law>
-inline constexpr int kDeclaredEventBudget<Law, std::void_t<decltype(Law::kEventBudget)>> =
-    Law::kEventBudget;
-// The law's declared budget if it declares one, else `bound`.
-template <typename Law>
-constexpr int event_budget(int bound) noexcept {
-  return kDeclaredEventBudget<Law> > 0 ? kDeclaredEventBudget<Law> : bound;
-}
-}  // namespace law_detail
-
 template <typename T, typename Law>
 class Oscillator {
   using S = ScalarTraits<T>;

@@ -54,6 +54,22 @@ inline constexpr int kMaxEventsPerStep = 32;
 // tests/core/test_stick_slip.cpp counts them on a run 32 times finer, up to omega0 dt = pi/2.
 inline constexpr int kMaxEventsOfTheExactSolutionPerStep = 3;
 
+namespace law_detail {
+// A law's declared event budget (`static constexpr int kEventBudget`, 1 to kMaxEventsPerStep), or
+// 0 where it declares none: for an integrator whose frame cannot afford the model's own budget
+// (its steps then lose events, and count them), and for the tests that reach a model's budget.
+template <typename Law, typename = void>
+inline constexpr int kDeclaredEventBudget = 0;
+template <typename Law>
+inline constexpr int kDeclaredEventBudget<Law, std::void_t<decltype(Law::kEventBudget)>> =
+    Law::kEventBudget;
+// The law's declared budget if it declares one, else `bound`.
+template <typename Law>
+constexpr int event_budget(int bound) noexcept {
+  return kDeclaredEventBudget<Law> > 0 ? kDeclaredEventBudget<Law> : bound;
+}
+}  // namespace law_detail
+
 // The loops and calls of a step whose counts the static bound takes per step or per call rather
 // than per entry or per call site (port/baremetal/loop-bounds.json): a law that declares
 // `static void count_loop_run(LoopRun) noexcept` is told of every run of their bodies, of each

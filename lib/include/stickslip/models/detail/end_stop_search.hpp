@@ -14,7 +14,9 @@
 // position inside the step is whole ticks plus a fraction of the next, so the step's end is
 // reached exactly.
 //
-// Loop bounds (the step's work): at most kMaxEventsPerStep events; per event one scan of at most
+// Loop bounds (the step's work): at most kEventBudget events (kMaxEventsPerStep unless the law
+// declares fewer; CTest EndStopEventBudget.* reaches it), then one pass to the step's end without
+// a search; per event one scan of at most
 // 16 blocks, one bisection of 12 levels, one Taylor tick (its root searches run at most
 // kMaxRootIterations<T> iterations each, integrators/taylor_segment.hpp), and the rest of the tick
 // the event's search starts in; one block of the scan whose |v_r| dips adds a bisection of at
@@ -104,7 +106,7 @@ int EndStopOscillator<T, Law>::search(const Input& in, T& stuck_fraction,
   Position pos{0u, T(0)};
   int events = 0;
   while (pos.tick < kTicks) {
-    const bool detect = events < kBudget;
+    const bool detect = events < kEventBudget;
     if (!detect) ++counters_.event_budget_exhausted;  // the rest of the step without events
     if (kSticking && direction_ == T(0)) {
       if (!detect) {

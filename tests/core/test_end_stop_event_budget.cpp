@@ -79,9 +79,9 @@ void check_budget(const test::RandomStopSeat& r, std::uint64_t seed, long steps,
   T a_previous = T(0);
   for (long n = 0; n < steps; ++n) {
     const T x = full.x_r(), v = full.v_r();
-    const double a_u = test::hostile_stop_floor(r, n, static_cast<double>(x),
-                                                static_cast<double>(v),
-                                                static_cast<double>(full.stop_force_n()), random);
+    const double a_u =
+        test::hostile_stop_floor(r, n, static_cast<double>(x), static_cast<double>(v),
+                                 static_cast<double>(full.stop_force_n()), random);
     full.reset(x, v, a_previous);
     cut.reset(x, v, a_previous);
     a_previous = static_cast<T>(a_u);
@@ -93,8 +93,8 @@ void check_budget(const test::RandomStopSeat& r, std::uint64_t seed, long steps,
     CHECK_TRUE(Cut::mode_searches <= kBudget + 1);
     tally.most_mode_searches = std::max(tally.most_mode_searches, Cut::mode_searches);
     const auto text = [&](const char* what) {
-      return StringFromFormat("%s: step %ld, events %d (budget %d) -> %d, x_r %.17g vs %.17g",
-                              what, n, expected.events, kBudget, got.events,
+      return StringFromFormat("%s: step %ld, events %d (budget %d) -> %d, x_r %.17g vs %.17g", what,
+                              n, expected.events, kBudget, got.events,
                               static_cast<double>(got.x_r_m), static_cast<double>(expected.x_r_m));
     };
     if (expected.events < kBudget) {
@@ -176,7 +176,8 @@ void run_law(FrictionModel model, std::uint64_t seed, BudgetTally& in_double,
 // last pass.
 void check_reached(const BudgetTally& t, int budget, const char* what) {
   CHECK_TEXT(t.steps_below_budget > 10000, what);
-  CHECK_TEXT(t.steps_over_budget > 100, StringFromFormat("%s: %ld over", what, t.steps_over_budget).asCharString());
+  CHECK_TEXT(t.steps_over_budget > 100,
+             StringFromFormat("%s: %ld over", what, t.steps_over_budget).asCharString());
   CHECK_TEXT(t.counted_stuck > 0 && t.counted_slipping > 0, what);
   CHECK_TEXT(t.lost > 0 && t.lost_stroke > 0, what);
   LONGS_EQUAL_TEXT(budget + 1, t.most_mode_searches, what);
@@ -199,8 +200,9 @@ void check_law(FrictionModel model, std::uint64_t seed, const char* what) {
 TEST_GROUP(EndStopEventBudget){};
 
 TEST(EndStopEventBudget, StickSlipAtItsBudgetFinishesInItsModeAndCountsEveryStepCutShort) {
-  check_law<CoulombStickSlip>(FrictionModel::stick_slip, 21,
-                              "end stops, stick-slip (double, float; budget 1, 2): lost of counted");
+  check_law<CoulombStickSlip>(
+      FrictionModel::stick_slip, 21,
+      "end stops, stick-slip (double, float; budget 1, 2): lost of counted");
 }
 
 TEST(EndStopEventBudget, StribeckAtItsBudgetFinishesInItsModeAndCountsEveryStepCutShort) {

@@ -458,6 +458,34 @@ TEST(StickSlip, FloatStribeckBreakAwayRaisesNoUnderflow) {
                                   .asCharString());
 }
 
+// A float Stribeck seat whose excess F_fs - F_fk is small (here 1e-5 N) would form excess
+// exp(-(v/v_S)^2) at speed as a subnormal (7e-41 N at v = 9 v_S): the term stays at the least
+// normal the law forms it with (stribeck_min_exponential()), and the friction at speed is F_fk.
+TEST(StickSlip, FloatStribeckWithASmallExcessRaisesNoUnderflowAtSpeed) {
+  OscillatorParams p = sticking_params(FrictionModel::stribeck, Integrator::exact, 1e-3);
+  p.kinetic_friction_n = 0.01;
+  p.static_friction_n = 0.01 + 1e-5;
+  p.stribeck_velocity_m_per_s = 0.01;
+  Oscillator<float, StribeckStickSlip> seat;
+  CHECK(seat.configure(p).ok());
+  int underflows = 0, first = -1;
+  long fast_steps = 0;
+  for (int n = 0; n < 5000; ++n) {
+    std::feclearexcept(FE_ALL_EXCEPT);
+    const StepOutput<float> out = seat.step((n / 100) % 2 == 0 ? -20.0f : 20.0f);
+    if (std::fetestexcept(FE_UNDERFLOW) != 0 && underflows++ == 0) first = n;
+    if (!out.stuck && std::fabs(out.v_r_m_per_s) > 9.0f * 0.01f) {
+      ++fast_steps;
+      CHECK_EQUAL(0.01f, std::fabs(out.friction_n));
+    }
+  }
+  std::feclearexcept(FE_ALL_EXCEPT);
+  CHECK_TEXT(
+      underflows == 0,
+      StringFromFormat("%d steps underflow, the first step %d", underflows, first).asCharString());
+  CHECK(fast_steps > 1000);
+}
+
 namespace {
 
 // A seat held at its break-away threshold by a floor chosen from its own state: F_L on +-F_fs,

@@ -2,6 +2,9 @@
 // law, so a scene pays only for the friction it names.
 #pragma once
 
+#include <limits>
+#include <type_traits>
+
 #include "stickslip/core/params.hpp"
 #include "stickslip/core/scalar.hpp"
 
@@ -16,13 +19,34 @@ enum class LawKind : unsigned char {
 
 template <typename T>
 struct FrictionCoefficients {
-  T kinetic_n;              // F_fk
-  T static_n;               // F_fs
-  T stribeck_excess_n;      // F_fs - F_fk
-  T inv_stribeck_velocity;  // 1/v_S, s/m
-  T smoothing_c;            // c, s/m
-  T smoothing_scale_n;      // F_fk (2/pi F_fk for the atan form)
+  T kinetic_n;                 // F_fk
+  T static_n;                  // F_fs
+  T stribeck_excess_n;         // F_fs - F_fk
+  T inv_stribeck_velocity;     // 1/v_S, s/m
+  T smoothing_c;               // c, s/m
+  T smoothing_scale_n;         // F_fk (2/pi F_fk for the atan form)
+  T stribeck_min_exponential;  // the least exp(-(v/v_S)^2) the Stribeck term is formed with
 };
+
+// FrictionCoefficients::stribeck_min_exponential for the excess F_fs - F_fk: where the excess is
+// so small that excess exp(-(v/v_S)^2) would leave T's normal numbers (float: an excess below
+// about 4e-3 N at v = 9 v_S, where the law stops the exponential's decay), the term stays at
+// twice the smallest normal, a force far below the rounding of any F_fk; 0 (no limit) otherwise,
+// and for fixed point, which has no subnormals. Every seat with an excess above that keeps the
+// law's values bit for bit.
+template <typename T>
+T stribeck_min_exponential(double excess_n) noexcept {
+  if constexpr (std::is_floating_point_v<T>) {
+    constexpr double kExp81 = 1.5060973145850306e35;  // e^81: the law's exponential is >= e^-81
+    const double smallest_term_n = 2.0 * static_cast<double>(std::numeric_limits<T>::min());
+    if (excess_n > 0.0 && excess_n < smallest_term_n * kExp81) {
+      const double least = smallest_term_n / excess_n;  // above e^-81: a normal number in T
+      return static_cast<T>(least < 1.0 ? least : 1.0);
+    }
+  }
+  (void)excess_n;
+  return T(0);
+}
 
 // Every law offers the same functions so that the oscillator can be instantiated uniformly:
 //   force(v, c):                 F_f as a function of v_r while moving;
@@ -130,13 +154,16 @@ struct StribeckStickSlip {
   static T slip_force(T v, T direction, const FrictionCoefficients<T>& c) noexcept {
     using S = ScalarTraits<T>;
     // Square the scaled velocity v/v_S, not v itself (v^2 underflows in float near v = 0);
-    // below 1e-9 the exponential is 1 to any precision, and exp(-80) is negligible against F_fk:
-    // both clamps keep every intermediate a normal number.
+    // below 1e-9 the exponential is 1 to any precision, and exp(-81) is negligible against F_fk;
+    // with the least exponential a small excess is formed with (stribeck_min_exponential()), the
+    // clamps keep every intermediate a normal number.
     T scaled = ScalarTraits<T>::abs(v) * c.inv_stribeck_velocity;
     if (scaled < T(1e-9)) scaled = T(0);
     if (scaled > T(9)) scaled = T(9);
     const T exponent = scaled * scaled;
-    const T magnitude = c.kinetic_n + c.stribeck_excess_n * S::exp(-exponent);
+    T exponential = S::exp(-exponent);
+    if (exponential < c.stribeck_min_exponential) exponential = c.stribeck_min_exponential;
+    const T magnitude = c.kinetic_n + c.stribeck_excess_n * exponential;
     return magnitude * direction;
   }
   template <typename T>

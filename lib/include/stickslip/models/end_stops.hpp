@@ -186,6 +186,7 @@ class EndStopOscillator {
     friction_.kinetic_n = kinetic_n_;
     friction_.static_n = static_n_;
     friction_.stribeck_excess_n = S::from_double(free_model.stribeck_excess_n);
+    friction_.stribeck_min_exponential = stribeck_min_exponential<T>(free_model.stribeck_excess_n);
     friction_.inv_stribeck_velocity = S::from_double(free_model.inv_stribeck_velocity);
     dt_s_ = S::from_double(seat.dt_s);
     tick_fraction_ = S::from_double(1.0 / double(kTicks));  // a power of two

@@ -130,6 +130,7 @@ class Oscillator {
     friction_.kinetic_n = S::from_double(params.kinetic_friction_n);
     friction_.static_n = S::from_double(params.static_friction_n);
     friction_.stribeck_excess_n = S::from_double(model.stribeck_excess_n);
+    friction_.stribeck_min_exponential = stribeck_min_exponential<T>(model.stribeck_excess_n);
     friction_.inv_stribeck_velocity = S::from_double(model.inv_stribeck_velocity);
     friction_.smoothing_c = S::from_double(params.smoothing_constant_s_per_m);
     friction_.smoothing_scale_n = S::from_double(model.smoothing_scale_n);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "stickslip/core/params.hpp"
+#include "stickslip/models/step_common.hpp"
 
 namespace stickslip::test {
 
@@ -292,6 +293,16 @@ inline CoulombHalfCycles coulomb_half_cycles(double m, double k, double b, doubl
 template <typename T>
 bool same_bits(T a, T b) {
   return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+// Two step outputs equal field by field, bit for bit.
+template <typename T>
+bool same_bits(const StepOutput<T>& a, const StepOutput<T>& b) {
+  return same_bits(a.x_r_m, b.x_r_m) && same_bits(a.v_r_m_per_s, b.v_r_m_per_s) &&
+         same_bits(a.a_x_m_per_s2, b.a_x_m_per_s2) && same_bits(a.friction_n, b.friction_n) &&
+         same_bits(a.stuck_time_s, b.stuck_time_s) &&
+         same_bits(a.stuck_fraction, b.stuck_fraction) && a.stuck == b.stuck &&
+         a.events == b.events;
 }
 
 // Mechanical energy of the relative motion, J.

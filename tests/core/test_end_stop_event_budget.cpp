@@ -47,13 +47,6 @@ struct BudgetTally {
   int most_mode_searches = 0;
 };
 
-template <typename T>
-bool same_bits(const StepOutput<T>& a, const StepOutput<T>& b) {
-  return a.x_r_m == b.x_r_m && a.v_r_m_per_s == b.v_r_m_per_s && a.a_x_m_per_s2 == b.a_x_m_per_s2 &&
-         a.friction_n == b.friction_n && a.stuck_fraction == b.stuck_fraction &&
-         a.stuck == b.stuck && a.events == b.events;
-}
-
 // How far rounding may carry the seat's own judgement of a quantity built from terms of size
 // `terms` (in T): verdicts within it go either way.
 template <typename T>
@@ -99,7 +92,7 @@ void check_budget(const test::RandomStopSeat& r, std::uint64_t seed, long steps,
     };
     if (expected.events < kBudget) {
       ++tally.steps_below_budget;
-      CHECK_TEXT(same_bits(expected, got) && cut.contact() == full.contact(),
+      CHECK_TEXT(test::same_bits(expected, got) && cut.contact() == full.contact(),
                  text("below the budget").asCharString());
       CHECK_TEXT(!counted, text("counted below the budget").asCharString());
       continue;

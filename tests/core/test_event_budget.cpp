@@ -44,13 +44,6 @@ bool beyond_static_friction(const OscillatorParams& p, double x_r, double a_u, d
   return std::fabs(limit) > p.static_friction_n;
 }
 
-template <typename T>
-bool same_bits(const StepOutput<T>& a, const StepOutput<T>& b) {
-  return a.x_r_m == b.x_r_m && a.v_r_m_per_s == b.v_r_m_per_s && a.a_x_m_per_s2 == b.a_x_m_per_s2 &&
-         a.friction_n == b.friction_n && a.stuck_fraction == b.stuck_fraction &&
-         a.stuck == b.stuck && a.events == b.events;
-}
-
 // The hostile input of StickSlip.NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound:
 // a_u swings F_L by up to 3 F_fs from sample to sample about the holding point, and an actuator
 // force jumps every fifth sample. Each step starts both seats from the full seat's state.
@@ -85,7 +78,7 @@ void check_budget(const OscillatorParams& p, std::uint64_t seed, BudgetTally& ta
     };
     if (expected.events < kBudget) {
       ++tally.steps_below_budget;
-      CHECK_TEXT(same_bits(expected, got), text("below the budget").asCharString());
+      CHECK_TEXT(test::same_bits(expected, got), text("below the budget").asCharString());
       CHECK_TEXT(!counted, text("counted below the budget").asCharString());
       continue;
     }

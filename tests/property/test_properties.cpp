@@ -1,7 +1,6 @@
 // Property tests: random parameters and inputs (fixed seeds, hundreds of cases per property).
 #include <cfloat>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -170,16 +169,6 @@ TEST(Properties, StuckSeatNeverMovesWithinStaticFrictionAndMovesWithTheFloor) {
 // Two runs of the same scene agree bit for bit, and so does a copy of the oscillator taken in the
 // middle of a run (the state is all in the object: no hidden global or static).
 template <typename T>
-bool same_bits(const StepOutput<T>& a, const StepOutput<T>& b) {
-  return std::memcmp(&a.x_r_m, &b.x_r_m, sizeof(T)) == 0 &&
-         std::memcmp(&a.v_r_m_per_s, &b.v_r_m_per_s, sizeof(T)) == 0 &&
-         std::memcmp(&a.a_x_m_per_s2, &b.a_x_m_per_s2, sizeof(T)) == 0 &&
-         std::memcmp(&a.friction_n, &b.friction_n, sizeof(T)) == 0 &&
-         std::memcmp(&a.stuck_time_s, &b.stuck_time_s, sizeof(T)) == 0 && a.stuck == b.stuck &&
-         a.events == b.events;
-}
-
-template <typename T>
 int check_reproducible(std::uint64_t seed) {
   test::SplitMix64 random(seed);
   int compared = 0;
@@ -200,8 +189,8 @@ int check_reproducible(std::uint64_t seed) {
             const auto a = first.step(static_cast<T>(input[n]));
             const auto b = second.step(static_cast<T>(input[n]));
             const bool same_copy =
-                n < kSteps / 2 || same_bits(a, copy.step(static_cast<T>(input[n])));
-            if (!same_bits(a, b) || !same_copy)
+                n < kSteps / 2 || test::same_bits(a, copy.step(static_cast<T>(input[n])));
+            if (!test::same_bits(a, b) || !same_copy)
               FAIL(StringFromFormat(
                        "%s step %zu: runs differ",
                        describe(sizeof(T) == 4 ? "float" : "double", p, trial).asCharString(), n)

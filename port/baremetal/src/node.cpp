@@ -54,6 +54,10 @@ const auto& model_of(const S& s) {
 // stiffer seat or a longer dt), which would run past the bound.
 constexpr int kSeatEventLevel = 0;
 constexpr int kSeatTaylorOrder = 3;
+// The end-stop seat's event loop runs its event budget and one pass more; the bounds file takes
+// that budget as kMaxEndStopEventsOfTheExactSolutionPerStep + 1 (Coulomb stick-slip's).
+static_assert(stickslip::EndStopOscillator<Scalar, stickslip::CoulombStickSlip>::kEventBudget ==
+              stickslip::kMaxEndStopEventsOfTheExactSolutionPerStep + 1);
 // Every sample SeatMotion and SeatForce, every tenth SeatStats and SeatScene (as the host node's
 // --outputs full).
 constexpr stickslip::can::OutputSet kOutputs = stickslip::can::OutputSet::full;

@@ -102,11 +102,20 @@ class EndStopOscillator {
  public:
   using Scalar = T;
   using FrictionLaw = Law;
-  // Events located in one step at most: the safety limit kMaxEventsPerStep (contacts and
-  // releases come on top of the friction's events), or a smaller budget the law declares
-  // (step_common.hpp). At the budget the step finishes in its mode without a search, and every
-  // step that reaches it before its end is counted in event_budget_exhausted().
-  static constexpr int kEventBudget = law_detail::event_budget<Law>(kMaxEventsPerStep);
+  // The most events the exact solution has in one step with a constant slip force
+  // (step_common.hpp): 9 with Coulomb stick-slip, its 3 friction events and 6 contacts and
+  // releases; 6 without friction.
+  static constexpr int kExactSolutionEvents = kSticking
+                                                  ? kMaxEndStopEventsOfTheExactSolutionPerStep
+                                                  : kMaxStrokeEdgeEventsOfTheExactSolutionPerStep;
+  // Events located in one step at most. At the budget the step finishes in its mode without a
+  // search, and every step that reaches it before its end is counted in event_budget_exhausted().
+  // With a constant slip force, one more than kExactSolutionEvents: a step that has them all
+  // still searches the rest of the step, finds nothing and is not counted, so a count means a
+  // located event the exact solution cannot have (rounding). Stribeck: the safety limit
+  // kMaxEventsPerStep. A law may declare a smaller budget.
+  static constexpr int kEventBudget = law_detail::event_budget<Law>(
+      kVelocityDependent ? kMaxEventsPerStep : kExactSolutionEvents + 1);
   static_assert(kEventBudget >= 1 && kEventBudget <= kMaxEventsPerStep,
                 "a law's declared event budget must be 1 to kMaxEventsPerStep");
 

@@ -21,12 +21,11 @@ struct StepOutput {
   std::uint8_t events;  // stick, break-away and reversal events inside this step
 };
 
-// A safety limit on events inside one step, for the models whose events are not bounded below
-// it by the argument that follows: the end-stop model (its contacts and releases come on top of
-// the friction's events) and Stribeck (its slip force changes with v_r inside a piece of motion).
-// At it the step finishes in its current mode, which keeps the worst-case time of step()
-// bounded; a step where that lost an event is counted in SafetyCounters::event_budget_exhausted
-// (the end-stop model counts every step that reaches it).
+// A safety limit on events inside one step, for the laws whose events are not bounded below it
+// by the arguments that follow: Stribeck, whose slip force changes with v_r inside a piece of
+// motion (with or without end stops). At it the step finishes in its current mode, which keeps
+// the worst-case time of step() bounded; a step where that lost an event is counted in
+// SafetyCounters::event_budget_exhausted (the end-stop model counts every step that reaches it).
 inline constexpr int kMaxEventsPerStep = 32;
 
 // The most events the exact solution of a law with a stuck state and a constant slip force
@@ -53,6 +52,34 @@ inline constexpr int kMaxEventsPerStep = 32;
 // reverses), a return to rest that sticks, a break-away towards s: 3 events.
 // tests/core/test_stick_slip.cpp counts them on a run 32 times finer, up to omega0 dt = pi/2.
 inline constexpr int kMaxEventsOfTheExactSolutionPerStep = 3;
+
+// The same bound with end stops (EndStopOscillator: Kelvin-Voigt stops of stiffness k_s and
+// damping b_s beyond +-travel, configure() accepting omega_c dt <= pi/2, omega_c^2 = (k + k_s)/m),
+// for Coulomb stick-slip and for no friction. The friction's argument above holds with the stops:
+// with y, d and f = F_L d - F_fk as there (F_L now holding the stop's force too, which at fixed
+// x_r is constant), a slip from rest towards s obeys m y'' = g(t) - R(y) - c y', where
+// g(0) >= 0, g' >= 0, R(0) = 0 and R (the springs' force) rises with a slope between k and
+// k + k_s, and c (b, or b + b_s in a stop) >= 0. With P = sqrt(m (k + k_s)) y', z = g - R(y) and
+// theta the angle of (z, P): while y' >= 0, z' >= -omega_c P, so in the first quadrant
+// theta' <= omega_c - c z P / (m (z^2 + P^2)) <= omega_c, and theta, starting at 0, stays in
+// (0, pi/2] for the step (omega_c dt <= pi/2), while z^2 + P^2 cannot reach 0 (it falls at most
+// as fast as e^(-2 c t / m)): y' > 0 all step, through any contact or release. The other steps
+// of the argument use F_L at rest and at fixed x_r alone, so they hold too: at most 3 friction
+// events, and at most 3 pieces of motion (a slip entering the step towards s that reverses, a
+// slip against s that comes to rest, a slip towards s). x_r is monotonic in each piece, so each
+// crosses each of the two edges, +travel and -travel, at most once: a contact or a release,
+// 2 per piece. Without friction v_r = 0 is no event, and the same argument (F_fk = 0) leaves at
+// most 3 monotonic pieces. Stribeck's held slip force changes at contacts and releases, so g may
+// fall inside a piece: it keeps kMaxEventsPerStep. tests/core/test_end_stops.cpp counts the
+// events on a run 32 times finer on hostile floors and seats at the ends of what configure()
+// accepts.
+inline constexpr int kMaxStrokeEdgeEventsOfTheExactSolutionPerStep = 6;
+inline constexpr int kMaxEndStopEventsOfTheExactSolutionPerStep = 9;
+static_assert(kMaxStrokeEdgeEventsOfTheExactSolutionPerStep == 3 * 2 &&
+                  kMaxEndStopEventsOfTheExactSolutionPerStep ==
+                      kMaxEventsOfTheExactSolutionPerStep +
+                          kMaxStrokeEdgeEventsOfTheExactSolutionPerStep,
+              "3 pieces of motion, each crossing each of the 2 edges at most once");
 
 namespace law_detail {
 // A law's declared event budget (`static constexpr int kEventBudget`, 1 to kMaxEventsPerStep), or

@@ -14,15 +14,16 @@
 // position inside the step is whole ticks plus a fraction of the next, so the step's end is
 // reached exactly.
 //
-// Loop bounds (the step's work): at most kEventBudget events (kMaxEventsPerStep unless the law
-// declares fewer; CTest EndStopEventBudget.* reaches it), then one pass to the step's end without a
-// search; per event one scan of at most 16 blocks, one bisection of 12 levels, one Taylor tick (its
-// root searches run at most kMaxRootIterations<T> iterations each, integrators/taylor_segment.hpp),
-// and the rest of the tick the event's search starts in; one block of the scan whose |v_r| dips
-// adds a bisection of at most 12 levels and one Taylor tick, and a second scan of the rest of the
-// step (at most one such block per event: move_to_mode_end(), which so solves at most two ticks
-// itself, its start's and a dip's). Q7.24 (one tick per step): per event one cubic polynomial, its
-// v_r root search (kCubicRootNewtonSteps) and the stroke boundary's
+// Loop bounds (the step's work): at most kEventBudget events (the exact solution's 9 for Coulomb
+// stick-slip and 6 without friction, step_common.hpp; Stribeck's safety limit kMaxEventsPerStep;
+// fewer where the law declares fewer: CTest EndStopEventBudget.* reaches it), then one pass to the
+// step's end without a search; per event one scan of at most 16 blocks, one bisection of 12 levels,
+// one Taylor tick (its root searches run at most kMaxRootIterations<T> iterations each,
+// integrators/taylor_segment.hpp), and the rest of the tick the event's search starts in; one block
+// of the scan whose |v_r| dips adds a bisection of at most 12 levels and one Taylor tick, and a
+// second scan of the rest of the step (at most one such block per event: move_to_mode_end(), which
+// so solves at most two ticks itself, its start's and a dip's). Q7.24 (one tick per step): per
+// event one cubic polynomial, its v_r root search (kCubicRootNewtonSteps) and the stroke boundary's
 // (end_stop_detail::cubic_edge_root(): at most kCubicStrokeNewtonSteps + 25).
 #pragma once
 

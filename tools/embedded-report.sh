@@ -777,6 +777,10 @@ for preset in ("cortex-m0plus", "cortex-m4f"):
       f"{ratio(hard_max, hard_p50):.2f}x | {v.get('limit', '?')} ({v.get('verdict', '?')}) | "
       f"{v.get('within_bound', '?')} |")
 w("")
+end_bound_over_worst = {
+    preset: end_wcet[preset][1]["instructions_bound"]
+    / max(int(end_hard.get(preset, {}).get("instructions_per_frame_max", 0)), 1)
+    for preset in ("cortex-m0plus", "cortex-m4f")}
 end_profiles = {preset: profile(preset, ".end-stops") for preset in ("cortex-m0plus", "cortex-m4f")}
 if all(end_profiles.values()):
     w("Where its worst frames go (`tools/qemu-frame-profile.sh --seat end-stops`, as above):")
@@ -820,8 +824,9 @@ w("The compile definition `STICKSLIP_FIRMWARE_END_STOPS` (the ELF "
   "or the one that leaves the mode, with 3 Newton steps on v_r and the stroke's search, "
   "`end_stop_detail::cubic_edge_root()`, 4 Newton iterations and 25 midpoints, a loop of their "
   "own that evaluates x_r alone), where a measured "
-  "step holds a few events, so it is a bound, tens to hundreds of times the measured worst, not "
-  "an estimate. "
+  "step holds a few events, so it is a bound, not an estimate: per frame "
+  f"{end_bound_over_worst['cortex-m0plus']:.0f} times the hardest set's worst frame on the M0+ "
+  f"and {end_bound_over_worst['cortex-m4f']:.0f} times on the M4F. "
   "CTest `embedded.end_stop_worst_frame_on_hardest_input_within_limit` (`tools/qemu-worst-case.sh "
   "--seat end-stops`) runs the hardest set above, compares its frames with the host's and fails "
   "if a worst frame exceeds its limit (a regression limit up to 5 % above this code's measured "

@@ -300,23 +300,41 @@ void run_hostile_floor(const RandomStopSeat& r, std::uint64_t seed, long steps, 
   run.contacts += model.contacts();
 }
 
-// A random stop seat (test::random_stop_seat()) at the ends of what configure() accepts, where
-// stroke crossings, bounces in a stop and rests come closest together in one step: travel from
-// 1 nm to 1 mm, stops as stiff as omega dt <= pi/2 in contact allows (omega dt from 0.8 to
-// pi/2, k + k_s at most 1e9 N/m), nothing damped, and F_fk from 0.01 to 30 N (F_fs / F_fk kept).
-RandomStopSeat extreme_stop_seat(test::SplitMix64& random, FrictionModel model) {
+// A random stop seat (test::random_stop_seat()) with a short stroke between stops as stiff as
+// omega dt <= pi/2 in contact allows (k + k_s at most 1e9 N/m), and little friction (F_fs / F_fk
+// kept): travel, omega dt in contact and F_fk drawn log-uniform, uniform and log-uniform.
+struct ShortStroke {
+  double log10_travel_min_m, log10_travel_max_m;
+  double contact_omega_dt_min;  // to pi/2
+  double log10_kinetic_friction_max_n;  // from 0.01 N
+  bool undamped;  // the seat and its stops
+};
+
+RandomStopSeat short_stroke_seat(test::SplitMix64& random, FrictionModel model,
+                                 const ShortStroke& stroke) {
   RandomStopSeat r = test::random_stop_seat(random, model);
   OscillatorParams& p = r.seat;
-  r.stops.travel_m = std::pow(10.0, random.uniform(-9.0, -3.0));
-  const double contact_rate = random.uniform(0.8, 1.5707) / p.dt_s;
+  r.stops.travel_m =
+      std::pow(10.0, random.uniform(stroke.log10_travel_min_m, stroke.log10_travel_max_m));
+  const double contact_rate = random.uniform(stroke.contact_omega_dt_min, 1.5707) / p.dt_s;
   r.stops.stiffness_n_per_m =
       std::min(1e9, contact_rate * contact_rate * p.mass_kg) - p.stiffness_n_per_m;
-  r.stops.damping_ns_per_m = 0.0;
-  p.damping_ns_per_m = 0.0;
+  if (stroke.undamped) {
+    r.stops.damping_ns_per_m = 0.0;
+    p.damping_ns_per_m = 0.0;
+  }
   const double static_over_kinetic = p.static_friction_n / p.kinetic_friction_n;
-  p.kinetic_friction_n = std::pow(10.0, random.uniform(-2.0, 1.5));
+  p.kinetic_friction_n =
+      std::pow(10.0, random.uniform(-2.0, stroke.log10_kinetic_friction_max_n));
   p.static_friction_n = static_over_kinetic * p.kinetic_friction_n;
   return r;
+}
+
+// At the ends of what configure() accepts, where stroke crossings, bounces in a stop and rests
+// come closest together in one step: travel from 1 nm to 1 mm, omega dt in contact from 0.8,
+// nothing damped, F_fk up to 30 N.
+RandomStopSeat extreme_stop_seat(test::SplitMix64& random, FrictionModel model) {
+  return short_stroke_seat(random, model, {-9.0, -3.0, 0.8, 1.5, true});
 }
 
 using SeatMaker = RandomStopSeat (*)(test::SplitMix64&, FrictionModel);
@@ -427,20 +445,11 @@ void count_exact_events(const RandomStopSeat& r, std::uint64_t seed, long steps,
   count.contacts += coarse.contacts();
 }
 
-// A stroke of 1 to 100 nm between stops as stiff as configure() accepts (omega dt 0.7 to pi/2 in
-// contact), F_fk from 0.01 to 1 N: on white noise the seat crosses its stroke and turns in a stop
-// several times a step, where the sweeps found the most events (below).
+// A stroke of 1 to 100 nm, omega dt in contact from 0.7, F_fk up to 1 N: on white noise the
+// seat crosses its stroke and turns in a stop several times a step, where the sweeps found the
+// most events (below).
 RandomStopSeat nanometre_stroke_seat(test::SplitMix64& random, FrictionModel model) {
-  RandomStopSeat r = test::random_stop_seat(random, model);
-  OscillatorParams& p = r.seat;
-  r.stops.travel_m = std::pow(10.0, random.uniform(-9.0, -7.0));
-  const double contact_rate = random.uniform(0.7, 1.5707) / p.dt_s;
-  r.stops.stiffness_n_per_m =
-      std::min(1e9, contact_rate * contact_rate * p.mass_kg) - p.stiffness_n_per_m;
-  const double static_over_kinetic = p.static_friction_n / p.kinetic_friction_n;
-  p.kinetic_friction_n = std::pow(10.0, random.uniform(-2.0, 0.0));
-  p.static_friction_n = static_over_kinetic * p.kinetic_friction_n;
-  return r;
+  return short_stroke_seat(random, model, {-9.0, -7.0, 0.7, 0.0, false});
 }
 
 template <typename Law>

@@ -305,9 +305,9 @@ void run_hostile_floor(const RandomStopSeat& r, std::uint64_t seed, long steps, 
 // kept): travel, omega dt in contact and F_fk drawn log-uniform, uniform and log-uniform.
 struct ShortStroke {
   double log10_travel_min_m, log10_travel_max_m;
-  double contact_omega_dt_min;  // to pi/2
+  double contact_omega_dt_min;          // to pi/2
   double log10_kinetic_friction_max_n;  // from 0.01 N
-  bool undamped;  // the seat and its stops
+  bool undamped;                        // the seat and its stops
 };
 
 RandomStopSeat short_stroke_seat(test::SplitMix64& random, FrictionModel model,
@@ -324,8 +324,7 @@ RandomStopSeat short_stroke_seat(test::SplitMix64& random, FrictionModel model,
     p.damping_ns_per_m = 0.0;
   }
   const double static_over_kinetic = p.static_friction_n / p.kinetic_friction_n;
-  p.kinetic_friction_n =
-      std::pow(10.0, random.uniform(-2.0, stroke.log10_kinetic_friction_max_n));
+  p.kinetic_friction_n = std::pow(10.0, random.uniform(-2.0, stroke.log10_kinetic_friction_max_n));
   p.static_friction_n = static_over_kinetic * p.kinetic_friction_n;
   return r;
 }

@@ -71,8 +71,9 @@ inline constexpr int kMaxEventsOfTheExactSolutionPerStep = 3;
 // 2 per piece. Without friction v_r = 0 is no event, and the same argument (F_fk = 0) leaves at
 // most 3 monotonic pieces. Stribeck's held slip force changes at contacts and releases, so g may
 // fall inside a piece: it keeps kMaxEventsPerStep. tests/core/test_end_stops.cpp counts the
-// events on a run 32 times finer on hostile floors and seats at the ends of what configure()
-// accepts.
+// events on a run 32 times finer, on hostile floors, seats at the ends of what configure()
+// accepts and strokes of nanometres on white noise (most: 8 with Coulomb; without friction 6,
+// the bound, in sweeps of such sets).
 inline constexpr int kMaxStrokeEdgeEventsOfTheExactSolutionPerStep = 6;
 inline constexpr int kMaxEndStopEventsOfTheExactSolutionPerStep = 9;
 static_assert(kMaxStrokeEdgeEventsOfTheExactSolutionPerStep == 3 * 2 &&

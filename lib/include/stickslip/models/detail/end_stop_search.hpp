@@ -14,8 +14,8 @@
 // position inside the step is whole ticks plus a fraction of the next, so the step's end is
 // reached exactly.
 //
-// Loop bounds (the step's work): at most kEventBudget events (the exact solution's 9 for Coulomb
-// stick-slip and 6 without friction, step_common.hpp; Stribeck's safety limit kMaxEventsPerStep;
+// Loop bounds (the step's work): at most kEventBudget events (one more than the exact solution's
+// 9 for Coulomb stick-slip and 6 without friction, step_common.hpp; Stribeck's kMaxEventsPerStep;
 // fewer where the law declares fewer: CTest EndStopEventBudget.* reaches it), then one pass to the
 // step's end without a search; per event one scan of at most 16 blocks, one bisection of 12 levels,
 // one Taylor tick (its root searches run at most kMaxRootIterations<T> iterations each,

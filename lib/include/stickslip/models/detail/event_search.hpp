@@ -20,7 +20,7 @@
 //     but the last locates one event; at the budget the step finishes in its mode, counted where
 //     that lost an event: stuck with |F_L| beyond F_fs at the end, or v_r against the direction):
 //     the exact solution's own 3 for a constant slip force (step_common.hpp), every scalar, and
-//     kMaxEventsPerStep = 32 for Stribeck (with end stops, end_stop_search.hpp: 9 for Coulomb);
+//     kMaxEventsPerStep = 32 for Stribeck (with end stops, end_stop_search.hpp: 10 for Coulomb);
 //   - slip()'s block walk: at most 2^(L+1) - 1 block maps per step over all its calls, since the
 //     walk only moves forward and evaluates each dyadic block of the step at most once (it starts
 //     at a position only on blocks that start there); every run of its body maps a block before

@@ -479,10 +479,11 @@ ExactEventCount exact_events_on_random_seats(FrictionModel model, std::uint64_t 
 // force that jumps, and on nanometre strokes on white noise (nanometre_stroke_seat()). Neither run
 // exhausts its budget. The coarse run may count a step's events otherwise than the fine run (a
 // contact or a double crossing of v_r = 0 shorter than a sixteenth of the step may go unseen,
-// end_stops.hpp), never more than the bound. The most events found in sweeps of such sets
-// with other seeds: without friction 6, the bound, on 6 of 10 sets of 160 nanometre seats and on
-// 3 of 3 sets of 400; with Coulomb 8 (5 to 8 on sets of 160, 8 on every set of 400). Here the
-// inputs must reach at least 5 and 2 events below the bound, so that the count is not vacuous.
+// end_stops.hpp), never more than the bound. The most events found in sweeps of nanometre seats
+// with other seeds (the actuator force up to 1.5 F_fs): without friction 6, the bound, on 5 of 8
+// sets of 160 seats and on 3 of 3 sets of 400; with Coulomb 8 (5 to 8 on sets of 160, 8 on every
+// set of 400). Here the inputs must reach at least 5 and 2 events below the bound (8 and 4 on
+// these seeds), so that the count is not vacuous.
 TEST(EndStops, NoStepOfTheExactSolutionHoldsMoreEventsThanTheDerivedBound) {
   const ExactEventCount coulomb =
       exact_events_on_random_seats<CoulombStickSlip>(FrictionModel::stick_slip, 21);

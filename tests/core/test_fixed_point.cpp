@@ -237,7 +237,7 @@ TEST(FixedPointOscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuantity) {
       DiscreteModel model;
       CHECK(discretise(p, model).ok());
       result = check_fixed_point_scene(p, model, Fixed::kIntegerBits, Fixed::kFractionBits,
-                                       ScalarTraits<Fixed>::kEventTickLevel);
+                                       ScalarTraits<Fixed>::kEventTickLevel, ParameterUnits::si);
     } else {
       Oscillator<Fixed, CoulombStickSlip> seat;
       result = seat.configure(p);

@@ -4,6 +4,7 @@
 // oscillator against double, configure() refusing by name, and the extreme scenes.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <vector>
 
@@ -637,6 +638,46 @@ TEST(ScaledFixedPoint32Oscillator, ConfigureRefusesWhatWouldNotFitNamingTheQuant
   scene.dt_s = 1.0;
   scene.mass_kg = 1.001;
   test::check_refused_naming(direct.configure(scene), "mass_kg:", "scene units");
+}
+
+// A refusal in scene units states its value in them, with their units (time dt, mass m, length
+// L), and whole: the SI unit beside a value in scene units would misstate it by orders of
+// magnitude (k/m of the reference seat is 130 1/s^2 but 5.2e-6 1/dt^2 at dt = 0.2 ms).
+TEST(ScaledFixedPoint32Oscillator, RefusalsStateTheirValuesInSceneUnitsAndWhole) {
+  const auto ends_with_the_limit = [](const ConfigResult& result) {
+    const char* text = result.message.c_str();
+    const std::size_t length = std::strlen(text);
+    CHECK_TEXT(length > 0 && text[length - 1] == ')', text);
+  };
+  char expected[96];
+  // dt = 0.2 ms: k/m in scene units is k dt^2 / m.
+  OscillatorParams p = firmware_params(FrictionModel::stick_slip, Integrator::exact);
+  p.kinetic_friction_n = p.static_friction_n = 45.0;
+  p.dt_s = 2e-4;
+  ScaledOscillator<Fixed32, CoulombStickSlip> seat;
+  ConfigResult result = seat.configure(p);
+  std::snprintf(expected, sizeof expected, "k/m = %g 1/dt^2 is below",
+                p.stiffness_n_per_m * p.dt_s * p.dt_s / p.mass_kg);
+  CHECK_TEXT(test::contains(result.message.c_str(), expected), result.message.c_str());
+  ends_with_the_limit(result);
+  // A 10 m stroke: F_fk in scene units is F_fk dt^2 / (m L).
+  p = firmware_params(FrictionModel::stick_slip, Integrator::exact);
+  p.kinetic_friction_n = p.static_friction_n = 45.0;
+  p.displacement_range_m = 10.0;
+  result = seat.configure(p);
+  const double length_m = seat.units().length_m;  // chosen before the refusal
+  std::snprintf(expected, sizeof expected, "F_fk = %g m L/dt^2 is below",
+                p.kinetic_friction_n * p.dt_s * p.dt_s / (p.mass_kg * length_m));
+  CHECK_TEXT(test::contains(result.message.c_str(), expected), result.message.c_str());
+  ends_with_the_limit(result);
+  // In SI (Q23.40) the same check keeps SI units.
+  OscillatorParams si = firmware_params(FrictionModel::stick_slip, Integrator::exact);
+  si.stiffness_n_per_m = 5e6;
+  Oscillator<Fixed, CoulombStickSlip> q23;
+  result = q23.configure(si);
+  CHECK_TEXT(test::contains(result.message.c_str(), "the stiffness k = 5e+06 N/m does not fit"),
+             result.message.c_str());
+  ends_with_the_limit(result);
 }
 
 // The extremes of the grid (test::for_each_extreme_scene) with the firmware's input range and a

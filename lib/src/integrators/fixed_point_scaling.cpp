@@ -1,17 +1,35 @@
 #include "stickslip/integrators/fixed_point_scaling.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <initializer_list>
 #include <utility>
 
 namespace stickslip {
 namespace {
 
+// An SI unit as the scene units of a ScaledOscillator state it (time dt, mass m, length L).
+const char* scene_unit(const char* si) noexcept {
+  static constexpr const char* kUnits[][2] = {
+      {"kg", "m"},       {"1/kg", "1/m"}, {"N/m", "m/dt^2"},  {"1/s^2", "1/dt^2"},
+      {"N s/m", "m/dt"}, {"1/s", "1/dt"}, {"N", "m L/dt^2"},  {"s/m", "dt/L"},
+      {"s", "dt"},       {"s^2", "dt^2"}, {"m/s^2", "L/dt^2"}};
+  for (const auto& unit : kUnits) {
+    if (std::strcmp(unit[0], si) == 0) return unit[1];
+  }
+  return si;
+}
+
 struct Checker {
   double largest;   // magnitude allowed
   double smallest;  // smallest non-zero magnitude allowed
   const char* format;
+  ParameterUnits units;
   ConfigResult& result;
+
+  const char* unit_of(const char* si) const noexcept {
+    return units == ParameterUnits::scene ? scene_unit(si) : si;
+  }
 
   bool refuse(Status status, const char* parameter) {
     result = refusal(status);
@@ -26,7 +44,7 @@ struct Checker {
         .append(" = ")
         .append(value)
         .append(" ")
-        .append(unit)
+        .append(unit_of(unit))
         .append(" does not fit the fixed-point scalar ")
         .append(format)
         .append(" (|value| <= ")
@@ -42,7 +60,7 @@ struct Checker {
         .append(" = ")
         .append(value)
         .append(" ")
-        .append(unit)
+        .append(unit_of(unit))
         .append(" is below the precision of the fixed-point scalar ")
         .append(format)
         .append(" (needs |value| >= ")
@@ -165,12 +183,13 @@ bool intermediates_fit(const OscillatorParams& p, const DiscreteModel& model, Ch
 }  // namespace
 
 ConfigResult check_fixed_point_scene(const OscillatorParams& p, const DiscreteModel& model,
-                                     int integer_bits, int fraction_bits, int tick_level) noexcept {
+                                     int integer_bits, int fraction_bits, int tick_level,
+                                     ParameterUnits units) noexcept {
   ConfigResult r;
   char format[16] = "Q";
   format_name(integer_bits, fraction_bits, format);
   Checker c{std::ldexp(1.0, integer_bits - kFixedPointHeadroomBits),
-            kFixedPointMinimumSteps * std::ldexp(1.0, -fraction_bits), format, r};
+            kFixedPointMinimumSteps * std::ldexp(1.0, -fraction_bits), format, units, r};
   // Each check stops at the first failure; r then holds the verdict and its message.
   (void)(offered(p, c) && coefficients_fit(p, model, tick_level, c) &&
          intermediates_fit(p, model, c));

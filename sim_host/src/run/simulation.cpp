@@ -151,7 +151,7 @@ void prepare_fixed_point_run(const SimulationSetup& setup, std::size_t count,
     ConfigResult refused = discretise(setup.params, model);
     if (refused.ok()) {
       refused = check_fixed_point_scene(setup.params, model, T::kIntegerBits, T::kFractionBits,
-                                        ScalarTraits<T>::kEventTickLevel);
+                                        ScalarTraits<T>::kEventTickLevel, ParameterUnits::si);
     }
     throw ConfigurationError(refused.message.c_str());
   }

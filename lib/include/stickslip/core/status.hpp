@@ -21,7 +21,7 @@ const char* status_name(Status status) noexcept;
 // Fixed capacity: no heap, safe to keep on an MCU.
 class StatusMessage {
  public:
-  static constexpr std::size_t kCapacity = 240;
+  static constexpr std::size_t kCapacity = 400;
 
   StatusMessage() noexcept { text_[0] = '\0'; }
   const char* c_str() const noexcept { return text_; }

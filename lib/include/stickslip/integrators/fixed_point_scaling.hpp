@@ -16,6 +16,10 @@ inline constexpr int kFixedPointHeadroomBits = 2;
 // then changes it by at most 2^-11 of its value.
 inline constexpr double kFixedPointMinimumSteps = 1024.0;
 
+// The units `params` are in: SI, or the scene units of a ScaledOscillator (time dt, mass m, length
+// L; models/scaled_oscillator.hpp), in which a refusal then states its values.
+enum class ParameterUnits { si, scene };
+
 // Checks `params` (already validated by discretise(), which filled `model`) for a Q(I).(F) scalar,
 // I = integer_bits, F = fraction_bits: the laws and integrators fixed point offers (linear,
 // signum, smooth with the rational form, stick-slip; euler, symplectic, exact), the ranges
@@ -25,6 +29,7 @@ inline constexpr double kFixedPointMinimumSteps = 1024.0;
 // The message starts with the parameter to change and names the quantity that would not fit.
 // tick_level: the event search's ticks are dt / 2^tick_level (they must keep their precision too).
 ConfigResult check_fixed_point_scene(const OscillatorParams& params, const DiscreteModel& model,
-                                     int integer_bits, int fraction_bits, int tick_level) noexcept;
+                                     int integer_bits, int fraction_bits, int tick_level,
+                                     ParameterUnits units) noexcept;
 
 }  // namespace stickslip

@@ -160,11 +160,14 @@ class EndStopOscillator {
       }
       // Fixed point: the seat's coefficients and intermediates must fit the format, free and in
       // contact (the stiffer, more damped seat), down to the event grid's tick.
-      result =
-          check_fixed_point_scene(seat, free_model, T::kIntegerBits, T::kFractionBits, kLevels);
+      // Q7.24 (kCubic) runs in scene units (ScaledEndStopOscillator).
+      const ParameterUnits units = kCubic ? ParameterUnits::scene : ParameterUnits::si;
+      result = check_fixed_point_scene(seat, free_model, T::kIntegerBits, T::kFractionBits, kLevels,
+                                       units);
       if (!result.ok()) return result;
-      const ConfigResult in_contact = check_fixed_point_scene(
-          contact_seat(seat, stops), contact_model, T::kIntegerBits, T::kFractionBits, kLevels);
+      const ConfigResult in_contact =
+          check_fixed_point_scene(contact_seat(seat, stops), contact_model, T::kIntegerBits,
+                                  T::kFractionBits, kLevels, units);
       if (!in_contact.ok()) {
         result.status = in_contact.status;
         result.message

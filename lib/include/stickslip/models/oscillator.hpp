@@ -83,7 +83,8 @@ class Oscillator {
       // Fixed point: the scene's coefficients and intermediates must fit the format.
       if (result.ok()) {
         result = check_fixed_point_scene(params, model, T::kIntegerBits, T::kFractionBits,
-                                         S::kEventTickLevel);
+                                         S::kEventTickLevel,
+                                         kSceneUnits ? ParameterUnits::scene : ParameterUnits::si);
       }
     }
     if constexpr (kSceneUnits) {

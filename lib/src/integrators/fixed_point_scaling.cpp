@@ -8,14 +8,20 @@
 namespace stickslip {
 namespace {
 
-// An SI unit as the scene units of a ScaledOscillator state it (time dt, mass m, length L).
+// An SI unit as the scene units of a ScaledOscillator state it (time dt, mass m, length L). The
+// names are arrays, not pointers, so that the table is constant data in flash on an MCU, not an
+// array of addresses copied to RAM.
+struct UnitName {
+  char si[8];
+  char scene[12];
+};
 const char* scene_unit(const char* si) noexcept {
-  static constexpr const char* kUnits[][2] = {
-      {"kg", "m"},       {"1/kg", "1/m"}, {"N/m", "m/dt^2"},  {"1/s^2", "1/dt^2"},
-      {"N s/m", "m/dt"}, {"1/s", "1/dt"}, {"N", "m L/dt^2"},  {"s/m", "dt/L"},
-      {"s", "dt"},       {"s^2", "dt^2"}, {"m/s^2", "L/dt^2"}};
-  for (const auto& unit : kUnits) {
-    if (std::strcmp(unit[0], si) == 0) return unit[1];
+  static constexpr UnitName kUnits[] = {{"kg", "m"},         {"1/kg", "1/m"},    {"N/m", "m/dt^2"},
+                                        {"1/s^2", "1/dt^2"}, {"N s/m", "m/dt"},  {"1/s", "1/dt"},
+                                        {"N", "m L/dt^2"},   {"s/m", "dt/L"},    {"s", "dt"},
+                                        {"s^2", "dt^2"},     {"m/s^2", "L/dt^2"}};
+  for (const UnitName& unit : kUnits) {
+    if (std::strcmp(unit.si, si) == 0) return unit.scene;
   }
   return si;
 }

@@ -409,6 +409,8 @@ struct FixedPointTraits {
   static constexpr bool kTaylorEventSearch = false;
   // Q7.24 in scene units overrides: one tick per step, the cubic polynomial inside it.
   static constexpr bool kCubicEventSearch = false;
+  // Parameters in SI units; Q7.24 overrides: scene units.
+  static constexpr bool kSceneUnits = false;
   static constexpr bool kTracksSaturation = true;
   // Reads and clears the sticky saturation flag (the oscillator, after each step).
   static bool take_saturation() noexcept { return take_fixed_point_saturation(); }

@@ -304,6 +304,9 @@ struct ScalarTraits<FixedPoint32<F>> : FixedPointTraits<FixedPoint32<F>> {
   // 75,000 instructions per frame on the Cortex-M0+ (docs/EMBEDDED.md).
   static constexpr int kEventTickLevel = 0;
   static constexpr bool kCubicEventSearch = true;
+  // The cubic search's polynomials carry no powers of dt, so the scalar runs in scene units only:
+  // time in steps and mass in seat masses, dt = 1 and m = 1 (models/scaled_oscillator.hpp).
+  static constexpr bool kSceneUnits = true;
   // The first u in (0, 1] where c + b u + a u^2 falls through 0 (c > 0), from the exact
   // discriminant; -1 where there is none (fixed_point_detail::falling_quadratic_root()). The
   // start of the cubic search's Newton steps.

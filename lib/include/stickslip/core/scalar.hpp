@@ -36,6 +36,8 @@ struct FloatScalarTraits {
   static constexpr bool kTaylorEventSearch = true;
   // One tick per step with the cubic polynomial inside it: fixed point in scene units only.
   static constexpr bool kCubicEventSearch = false;
+  // Parameters in SI units (scene units, dt = 1 and m = 1: Q7.24 only).
+  static constexpr bool kSceneUnits = false;
   // Saturation cannot happen: IEEE overflow gives Inf, which the step's guards handle.
   static constexpr bool kTracksSaturation = false;
   // The common path's whole slipping step stays inline (no call: the host's speed).

@@ -20,6 +20,12 @@ inline constexpr double kFixedPointMinimumSteps = 1024.0;
 // L; models/scaled_oscillator.hpp), in which a refusal then states its values.
 enum class ParameterUnits { si, scene };
 
+// The units a model on scalar traits S takes its parameters in (ScalarTraits::kSceneUnits).
+template <typename S>
+constexpr ParameterUnits parameter_units() noexcept {
+  return S::kSceneUnits ? ParameterUnits::scene : ParameterUnits::si;
+}
+
 // Checks `params` (already validated by discretise(), which filled `model`) for a Q(I).(F) scalar,
 // I = integer_bits, F = fraction_bits: the laws and integrators fixed point offers (linear,
 // signum, smooth with the rational form, stick-slip; euler, symplectic, exact), the ranges

@@ -160,8 +160,8 @@ class EndStopOscillator {
       }
       // Fixed point: the seat's coefficients and intermediates must fit the format, free and in
       // contact (the stiffer, more damped seat), down to the event grid's tick.
-      // Q7.24 (kCubic) runs in scene units (ScaledEndStopOscillator).
-      const ParameterUnits units = kCubic ? ParameterUnits::scene : ParameterUnits::si;
+      // Q7.24 runs in scene units (ScaledEndStopOscillator).
+      constexpr ParameterUnits units = parameter_units<S>();
       result = check_fixed_point_scene(seat, free_model, T::kIntegerBits, T::kFractionBits, kLevels,
                                        units);
       if (!result.ok()) return result;

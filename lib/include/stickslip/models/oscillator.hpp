@@ -64,7 +64,7 @@ class Oscillator {
   // Q7.24 runs in scene units only (models/scaled_oscillator.hpp), where m = 1 and dt = 1
   // exactly and the step is one tick (configure() requires them): its products by these are
   // exact and skipped (by_unit()), about 40 instructions each on the Cortex-M0+.
-  static constexpr bool kSceneUnits = S::kCubicEventSearch;
+  static constexpr bool kSceneUnits = S::kSceneUnits;
 
   // Validates the parameters and precomputes every coefficient. The model in `params` must match
   // Law (checked); the oscillator is left reset to rest with a_u = 0.
@@ -83,8 +83,7 @@ class Oscillator {
       // Fixed point: the scene's coefficients and intermediates must fit the format.
       if (result.ok()) {
         result = check_fixed_point_scene(params, model, T::kIntegerBits, T::kFractionBits,
-                                         S::kEventTickLevel,
-                                         kSceneUnits ? ParameterUnits::scene : ParameterUnits::si);
+                                         S::kEventTickLevel, parameter_units<S>());
       }
     }
     if constexpr (kSceneUnits) {

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include <boost/numeric/odeint.hpp>
@@ -398,4 +399,40 @@ TEST(ReferenceEndStops, RefusesTheSmoothLawsAndBadStops) {
   CHECK_THROWS(ConfigurationError, solve_reference(p, stops(0.01, 0.0), a_u));
   p = seat(FrictionModel::stick_slip, 504.0, 25.0, 30.0);
   CHECK_THROWS(ConfigurationError, solve_reference(p, stops(-0.01, 0.0), a_u));
+}
+
+// Every bad input gets the plain seat's one line, naming the value: the two solvers share their
+// input checks.
+TEST(ReferenceEndStops, RefusesBadInputsWithThePlainSolversMessage) {
+  const OscillatorParams p = seat(FrictionModel::stick_slip, 504.0, 25.0, 30.0);
+  const EndStopParams s = stops(0.01, 0.0);
+  const auto message = [](const auto& solve) {
+    try {
+      solve();
+    } catch (const HostError& error) {
+      return std::string(error.what());
+    }
+    return std::string("(accepted)");
+  };
+  struct Bad {
+    std::vector<double> a_u, f_a;
+    double x0, v0;
+    const char* names;
+  };
+  const double nan = std::nan("");
+  const Bad cases[] = {
+      {{}, {}, 0.0, 0.0, "no samples"},
+      {{0.0, 1.0, nan, 0.0}, {}, 0.0, 0.0, "a_u[2] = nan"},
+      {{0.0, 1.0, 0.0}, {0.0, 1.0}, 0.0, 0.0, "2 actuator forces for 3 input samples"},
+      {{0.0, 1.0, 0.0}, {0.0, HUGE_VAL, 0.0}, 0.0, 0.0, "f_a[1] = inf"},
+      {{0.0, 1.0}, {}, 0.0, -HUGE_VAL, "v0 = -inf"},
+  };
+  for (const Bad& bad : cases) {
+    const std::string with_stops =
+        message([&] { solve_reference_actuated(p, s, bad.a_u, bad.f_a, bad.x0, bad.v0); });
+    const std::string without =
+        message([&] { solve_reference_actuated(p, bad.a_u, bad.f_a, bad.x0, bad.v0); });
+    STRCMP_CONTAINS(bad.names, with_stops.c_str());
+    STRCMP_EQUAL(without.c_str(), with_stops.c_str());
+  }
 }

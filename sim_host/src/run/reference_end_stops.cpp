@@ -29,6 +29,7 @@
 #include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
 
 #include "reference_closed_form.hpp"
+#include "reference_inputs.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/run/reference_solver.hpp"
 #include "stickslip/models/end_stops.hpp"
@@ -486,26 +487,7 @@ ReferenceTrace solve_reference_actuated(const OscillatorParams& params, const En
         "reference solver: end stops are solved for the linear, signum, stick-slip and stribeck "
         "laws; smooth is not supported with end stops");
   }
-  if (a_u.empty()) throw HostError("reference solver: the input has no samples");
-  for (std::size_t n = 0; n < a_u.size(); ++n) {
-    if (!std::isfinite(a_u[n])) {
-      throw HostError(fmt::format("reference solver: a_u[{}] = {} is not finite", n, a_u[n]));
-    }
-  }
-  if (!f_a_n.empty() && f_a_n.size() != a_u.size()) {
-    throw HostError(fmt::format("reference solver: {} actuator forces for {} input samples",
-                                f_a_n.size(), a_u.size()));
-  }
-  for (std::size_t n = 0; n < f_a_n.size(); ++n) {
-    if (!std::isfinite(f_a_n[n])) {
-      throw HostError(fmt::format("reference solver: f_a[{}] = {} is not finite", n, f_a_n[n]));
-    }
-  }
-  if (!std::isfinite(x0_m) || !std::isfinite(v0_m_per_s)) {
-    throw HostError(
-        fmt::format("reference solver: the initial state x0 = {} m, v0 = {} m/s is not finite",
-                    x0_m, v0_m_per_s));
-  }
+  reference::check_inputs(a_u, f_a_n, x0_m, v0_m_per_s);
   reference::StopSolver solver(checked, stops, a_u, f_a_n.empty() ? nullptr : &f_a_n);
   return solver.run(x0_m, v0_m_per_s);
 }

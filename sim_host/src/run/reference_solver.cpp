@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "reference_event_driver.hpp"
+#include "reference_inputs.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/integrators/discretisation.hpp"
 
@@ -66,22 +67,8 @@ ReferenceTrace Solver::run(double x0, double v0) {
 #pragma GCC diagnostic pop
 #endif
 
-}  // namespace reference
-
-ReferenceTrace solve_reference(const OscillatorParams& params, const std::vector<double>& a_u,
-                               double x0_m, double v0_m_per_s) {
-  return solve_reference_actuated(params, a_u, {}, x0_m, v0_m_per_s);
-}
-
-ReferenceTrace solve_reference_actuated(const OscillatorParams& params,
-                                        const std::vector<double>& a_u,
-                                        const std::vector<double>& f_a_n, double x0_m,
-                                        double v0_m_per_s) {
-  OscillatorParams checked = params;
-  checked.integrator = Integrator::exact;
-  DiscreteModel model;  // only the validation is used; the solution below is independent of it
-  const ConfigResult configured = discretise(checked, model);
-  if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+void check_inputs(const std::vector<double>& a_u, const std::vector<double>& f_a_n, double x0_m,
+                  double v0_m_per_s) {
   if (a_u.empty()) throw HostError("reference solver: the input has no samples");
   for (std::size_t n = 0; n < a_u.size(); ++n) {
     if (!std::isfinite(a_u[n])) {
@@ -99,10 +86,28 @@ ReferenceTrace solve_reference_actuated(const OscillatorParams& params,
   }
   if (!std::isfinite(x0_m) || !std::isfinite(v0_m_per_s)) {
     throw HostError(
-        fmt::format("reference solver: the initial state x0 = {} m, v0 = {} m/s is "
-                    "not finite",
+        fmt::format("reference solver: the initial state x0 = {} m, v0 = {} m/s is not finite",
                     x0_m, v0_m_per_s));
   }
+}
+
+}  // namespace reference
+
+ReferenceTrace solve_reference(const OscillatorParams& params, const std::vector<double>& a_u,
+                               double x0_m, double v0_m_per_s) {
+  return solve_reference_actuated(params, a_u, {}, x0_m, v0_m_per_s);
+}
+
+ReferenceTrace solve_reference_actuated(const OscillatorParams& params,
+                                        const std::vector<double>& a_u,
+                                        const std::vector<double>& f_a_n, double x0_m,
+                                        double v0_m_per_s) {
+  OscillatorParams checked = params;
+  checked.integrator = Integrator::exact;
+  DiscreteModel model;  // only the validation is used; the solution below is independent of it
+  const ConfigResult configured = discretise(checked, model);
+  if (!configured.ok()) throw ConfigurationError(configured.message.c_str());
+  reference::check_inputs(a_u, f_a_n, x0_m, v0_m_per_s);
   reference::Solver solver(checked, a_u, f_a_n.empty() ? nullptr : &f_a_n);
   return solver.run(x0_m, v0_m_per_s);
 }

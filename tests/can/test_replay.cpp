@@ -39,6 +39,31 @@ nlohmann::json last_json_line(const std::string& out) {
   return nlohmann::json::parse(lines.back());
 }
 
+// Runs the ECU node of `request` on the in-process loopback bus and sends it the recording's
+// frames in lock step, each answered (SeatMotion) before the next goes out; checks that every
+// frame was answered.
+host::EcuResult run_ecu_in_lock_step(const host::EcuRequest& request,
+                                     const host::BusRecording& recording) {
+  auto tester = port::make_loopback_transport();
+  CHECK(tester->open("loopback") == port::TransportStatus::ok);
+  const port::ReceiveFilter motion{can::kSeatMotion.id, can::kStandardIdMask};
+  tester->set_filters(&motion, 1);
+  host::EcuResult result;
+  std::thread ecu([&] { result = host::run_ecu(request); });
+  for (int wait = 0; wait < 1000 && port::loopback_endpoints() < 2; ++wait)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  LONGS_EQUAL(2, port::loopback_endpoints());
+  std::uint64_t answered = 0;
+  for (const can::Frame& frame : recording.frames) {
+    CHECK(tester->send(frame) == port::TransportStatus::ok);
+    can::Frame answer;
+    answered += tester->receive(answer, 1000) == port::TransportStatus::ok;
+  }
+  ecu.join();
+  LONGS_EQUAL(recording.frames.size(), answered);
+  return result;
+}
+
 }  // namespace
 
 TEST_GROUP(Replay) {
@@ -227,24 +252,7 @@ TEST(EcuCommand, NodeAloneWritesWhatReplayWritesForTheSameFrames) {
   request.setup.params.kinetic_friction_n = request.setup.params.static_friction_n = 45.0;
   request.max_frames = recording.frames.size();
   request.output_path = dir.file("ecu.csv");
-  auto tester = port::make_loopback_transport();
-  CHECK(tester->open("loopback") == port::TransportStatus::ok);
-  const port::ReceiveFilter motion{can::kSeatMotion.id, can::kStandardIdMask};
-  tester->set_filters(&motion, 1);
-  host::EcuResult result;
-  std::thread ecu([&] { result = host::run_ecu(request); });
-  for (int wait = 0; wait < 1000 && port::loopback_endpoints() < 2; ++wait)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  LONGS_EQUAL(2, port::loopback_endpoints());
-  // Lock step: each frame is answered (SeatMotion) before the next goes out.
-  std::uint64_t answered = 0;
-  for (const can::Frame& frame : recording.frames) {
-    CHECK(tester->send(frame) == port::TransportStatus::ok);
-    can::Frame answer;
-    answered += tester->receive(answer, 1000) == port::TransportStatus::ok;
-  }
-  ecu.join();
-  LONGS_EQUAL(recording.frames.size(), answered);
+  const host::EcuResult result = run_ecu_in_lock_step(request, recording);
   LONGS_EQUAL(recording.frames.size(), result.faults.accepted);
   LONGS_EQUAL(0, result.faults.faults());
   CHECK_TRUE(stickslip::test::read_text(dir.file("replay.csv")) ==
@@ -276,23 +284,7 @@ TEST(EcuCommand, NodeAloneRunsAnEndStopSceneAsReplayDoes) {
   request.setup.stops = scene.stops;
   request.max_frames = recording.frames.size();
   request.output_path = dir.file("ecu.csv");
-  auto tester = port::make_loopback_transport();
-  CHECK(tester->open("loopback") == port::TransportStatus::ok);
-  const port::ReceiveFilter motion{can::kSeatMotion.id, can::kStandardIdMask};
-  tester->set_filters(&motion, 1);
-  host::EcuResult result;
-  std::thread ecu([&] { result = host::run_ecu(request); });
-  for (int wait = 0; wait < 1000 && port::loopback_endpoints() < 2; ++wait)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  LONGS_EQUAL(2, port::loopback_endpoints());
-  std::uint64_t answered = 0;
-  for (const can::Frame& frame : recording.frames) {
-    CHECK(tester->send(frame) == port::TransportStatus::ok);
-    can::Frame answer;
-    answered += tester->receive(answer, 1000) == port::TransportStatus::ok;
-  }
-  ecu.join();
-  LONGS_EQUAL(recording.frames.size(), answered);
+  const host::EcuResult result = run_ecu_in_lock_step(request, recording);
   LONGS_EQUAL(0, result.faults.faults());
   CHECK_TRUE(stickslip::test::read_text(dir.file("replay.csv")) ==
              stickslip::test::read_text(request.output_path));

@@ -28,8 +28,8 @@
 #include <boost/numeric/odeint/stepper/generation.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
 
+#include "reference_checks.hpp"
 #include "reference_closed_form.hpp"
-#include "reference_inputs.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/host/run/reference_solver.hpp"
 #include "stickslip/models/end_stops.hpp"
@@ -162,14 +162,7 @@ class StopSolver {
     trace.stuck[n] = 0;
   }
 
-  void count_event(int& in_sample) {
-    if (++in_sample > kMaxEventsPerSample) {
-      throw HostError(fmt::format(
-          "reference solver: more than {} events in the sample interval ending at sample {} "
-          "(t = {} s): a degenerate scene",
-          kMaxEventsPerSample, sample_, static_cast<double>(sample_) * p_.dt_s));
-    }
-  }
+  void count_event(int& in_sample) { count_sample_event(in_sample, sample_, p_.dt_s); }
 
   void advance(Real a0, Real a1) {
     Real tau = 0;

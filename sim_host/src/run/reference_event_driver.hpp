@@ -16,6 +16,7 @@
 #include <boost/numeric/odeint/stepper/generation.hpp>
 #include <boost/numeric/odeint/stepper/runge_kutta_cash_karp54.hpp>
 
+#include "reference_checks.hpp"
 #include "reference_closed_form.hpp"
 #include "stickslip/core/params.hpp"
 #include "stickslip/host/error.hpp"
@@ -196,12 +197,7 @@ class Solver {
 
   void count_event(int& events_in_sample) {
     ++events_;
-    if (++events_in_sample > kMaxEventsPerSample) {
-      throw HostError(fmt::format(
-          "reference solver: more than {} events in the sample interval ending at sample {} "
-          "(t = {} s): a degenerate scene",
-          kMaxEventsPerSample, sample_, static_cast<double>(sample_) * p_.dt_s));
-    }
+    count_sample_event(events_in_sample, sample_, p_.dt_s);
   }
 
   // At a v_r = 0 instant: stick if the limit force is within static friction, else reverse.

@@ -7,8 +7,8 @@
 
 #include <fmt/format.h>
 
+#include "reference_checks.hpp"
 #include "reference_event_driver.hpp"
-#include "reference_inputs.hpp"
 #include "stickslip/host/error.hpp"
 #include "stickslip/integrators/discretisation.hpp"
 
@@ -88,6 +88,15 @@ void check_inputs(const std::vector<double>& a_u, const std::vector<double>& f_a
     throw HostError(
         fmt::format("reference solver: the initial state x0 = {} m, v0 = {} m/s is not finite",
                     x0_m, v0_m_per_s));
+  }
+}
+
+void count_sample_event(int& events_in_sample, std::size_t sample, double dt_s) {
+  if (++events_in_sample > kMaxEventsPerSample) {
+    throw HostError(fmt::format(
+        "reference solver: more than {} events in the sample interval ending at sample {} "
+        "(t = {} s): a degenerate scene",
+        kMaxEventsPerSample, sample, static_cast<double>(sample) * dt_s));
   }
 }
 

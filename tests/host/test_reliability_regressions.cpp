@@ -16,7 +16,7 @@ TEST_GROUP(ReliabilityRegressions){};
 
 // Float Stribeck (K = 0.8, b = 504 N s/m, F_fs = 1.3 F_fk, v_S = 0.01 m/s) with euler at 0.1 ms and
 // symplectic at 0.25 ms: at a break-away with |F_L| ~ F_fs the float rounding of v_r over a
-// block started at rest can fake a crossing per tick and spend all 32 events of a step's
+// block started at rest can fake a crossing per tick and spend every event of a step's
 // budget. No step may exhaust it, and the run must stay finite.
 TEST(ReliabilityRegressions, FloatStribeckBreakAwayAtTheLimitKeepsTheEventBudget) {
   host::GeneratorSpec spec;

@@ -48,14 +48,19 @@ class Oscillator {
   using Scalar = T;
   using FrictionLaw = Law;
   // Events located in one step at most. With a slip force constant over each piece of motion
-  // (stick-slip, and the held laws), the exact solution's own bound for every step configure()
-  // accepts (step_common.hpp); Stribeck, whose slip force follows v_r, keeps the safety limit.
-  // At the budget the step finishes in its mode; a step where that lost an event (stuck to the
-  // end with |F_L| beyond F_fs, or slipping to the end with v_r against its direction) is counted
-  // in event_budget_exhausted(), which by the bound only rounding could reach. A law may declare
-  // a smaller budget (`static constexpr int kEventBudget`, 1 or more), for an integrator whose
-  // frame cannot afford the bound's events: its steps then lose events, and count them.
+  // (stick-slip; the held laws; Stribeck, whose force every integrator but RK4 holds at its value
+  // where the piece starts), the exact solution's own bound for every step configure() accepts
+  // (step_common.hpp). RK4 evaluates Stribeck's force at its stages, so that it follows v_r
+  // inside a piece: that configuration keeps the safety limit (kStageFrictionEventBudget;
+  // event_budget() is the one in force). At the budget the step finishes in its mode; a step
+  // where that lost an event (stuck to the end with |F_L| beyond F_fs, or slipping to the end
+  // with v_r against its direction) is counted in event_budget_exhausted(), which by the bound
+  // only rounding could reach. A law may declare a smaller budget (`static constexpr int
+  // kEventBudget`, 1 or more), for an integrator whose frame cannot afford the bound's events:
+  // its steps then lose events, and count them.
   static constexpr int kEventBudget =
+      law_detail::event_budget<Law>(kMaxEventsOfTheExactSolutionPerStep);
+  static constexpr int kStageFrictionEventBudget =
       law_detail::event_budget<Law>(Law::kind == LawKind::sticking && Law::velocity_dependent
                                         ? kMaxEventsPerStep
                                         : kMaxEventsOfTheExactSolutionPerStep);
@@ -335,6 +340,14 @@ class Oscillator {
   EventSearchPlan event_search() const noexcept { return {event_level_, taylor_.order}; }
   // Steps the event budget cut short (should stay 0; a non-zero count means a degenerate scene).
   std::uint64_t event_budget_exhausted() const noexcept { return counters_.event_budget_exhausted; }
+  // The events one step locates at most, as configured: kEventBudget, or with RK4 and a friction
+  // force that follows v_r inside a piece, kStageFrictionEventBudget.
+  int event_budget() const noexcept {
+    if constexpr (Law::velocity_dependent) {
+      if (stage_friction_) return kStageFrictionEventBudget;
+    }
+    return kEventBudget;
+  }
   // Non-finite input samples replaced by the previous sample.
   std::uint64_t rejected_inputs() const noexcept { return counters_.rejected_inputs; }
   // Times the non-finite guard restarted the state from rest (0 for any accepted configuration).

@@ -21,15 +21,17 @@ struct StepOutput {
   std::uint8_t events;  // stick, break-away and reversal events inside this step
 };
 
-// A safety limit on events inside one step, for the laws whose events are not bounded below it
-// by the arguments that follow: Stribeck, whose slip force changes with v_r inside a piece of
-// motion (with or without end stops). At it the step finishes in its current mode, which keeps
-// the worst-case time of step() bounded; a step where that lost an event is counted in
+// A safety limit on events inside one step, for the configurations whose events are not bounded
+// below it by the arguments that follow: Stribeck where its slip force changes with v_r inside a
+// piece of motion (under RK4, which evaluates it at its stages; with end stops, where the held
+// force is taken again at contacts and releases). At it the step finishes in its current mode,
+// which keeps the worst-case time of step() bounded; a step where that lost an event is counted in
 // SafetyCounters::event_budget_exhausted (the end-stop model counts every step that reaches it).
 inline constexpr int kMaxEventsPerStep = 32;
 
-// The most events the exact solution of a law with a stuck state and a constant slip force
-// (Coulomb stick-slip, F_fs >= F_fk; the held signum law, F_fs = F_fk, which holds the load to
+// The most events the exact solution of a law with a stuck state and a slip force constant over
+// each piece of motion (Coulomb stick-slip, F_fs >= F_fk; Stribeck with its force held at its
+// value where the piece starts, below; the held signum law, F_fs = F_fk, which holds the load to
 // the step's end once at rest; the smoothed laws stop at their first event) has in one step, for
 // every step configure() accepts (omega0 dt <= pi/2), with a_u linear and the actuator force held
 // over the step: Oscillator's event budget for these laws, every scalar. F_L = f_a - m a_u - k x_r,
@@ -50,7 +52,13 @@ inline constexpr int kMaxEventsPerStep = 32;
 // So only a slip entering the step, or one against s, returns to rest, and the longest chains are
 // (a break-away against s at the start, or a slip entering towards s that comes to rest and
 // reverses), a return to rest that sticks, a break-away towards s: 3 events.
-// tests/core/test_stick_slip.cpp counts them on a run 32 times finer, up to omega0 dt = pi/2.
+// The argument asks two things of a piece's slip force F_p: F_p <= abs(F_L) where a piece starts
+// from rest (f(0) >= 0), and F_p <= F_fs where a piece returns to rest (it sticks or reverses).
+// Stribeck's held force, F_fk + (F_fs - F_fk) exp(-(v_r/v_S)^2) at the piece's start, meets
+// both: from rest it is F_fs, which a break-away or a reversal exceeds, and it never exceeds F_fs
+// (F_fs >= F_fk, configure() checks). So its budget is 3 as well, wherever the force is held.
+// tests/core/test_stick_slip.cpp counts them on a run 32 times finer, up to omega0 dt = pi/2, and
+// Stribeck's with a budget of kMaxEventsPerStep.
 inline constexpr int kMaxEventsOfTheExactSolutionPerStep = 3;
 
 // The same bound with end stops (EndStopOscillator: Kelvin-Voigt stops of stiffness k_s and

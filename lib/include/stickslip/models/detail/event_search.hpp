@@ -18,9 +18,12 @@
 // floating point, 10 in Q23.40, 0 in Q7.24):
 //   - step_sticking()'s and step_held()'s event loops: at most kEventBudget + 1 passes (each pass
 //     but the last locates one event; at the budget the step finishes in its mode, counted where
-//     that lost an event: stuck with |F_L| beyond F_fs at the end, or v_r against the direction):
-//     the exact solution's own 3 for a constant slip force (step_common.hpp), every scalar, and
-//     kMaxEventsPerStep = 32 for Stribeck (with end stops, end_stop_search.hpp: 10 for Coulomb);
+//     that lost an event: stuck with |F_L| beyond F_fs at the end, or v_r against the direction);
+//     in step_sticking() a pass slips at most twice, the second time on from a return to rest
+//     that only rounding finds, unsearched, to the step's end:
+//     the exact solution's own 3 for a slip force constant over each piece of motion
+//     (step_common.hpp), every law and scalar, and kMaxEventsPerStep = 32 for Stribeck under RK4,
+//     whose stages follow v_r (with end stops, end_stop_search.hpp: 10 for Coulomb);
 //   - slip()'s block walk: at most 2^(L+1) - 1 block maps per step over all its calls, since the
 //     walk only moves forward and evaluates each dyadic block of the step at most once (it starts
 //     at a position only on blocks that start there); every run of its body maps a block before
@@ -36,10 +39,11 @@
 //     (kEventBudget - 1) + 2^L per step. A pass that slips from inside a tick searches it once
 //     (finish_tick_*()); the first pass starts at the step's start, not inside a tick nor at a
 //     slip's start (Q7.24 excepted, whose one tick the first pass searches in place of a walk),
-//     and the pass past the budget searches nothing (d = 0), so at most kEventBudget - 1 passes
-//     do; the block walks search a tick at most once per step, since they move on past it. At
-//     L = 0 (the firmware's plan, and Q7.24) that is kEventBudget, which the static bound charges
-//     per step rather than per pass (port/baremetal/loop-bounds.json "calls");
+//     and the pass past the budget searches nothing (d = 0), nor the slip on from a return to
+//     rest that only rounding finds (which ends the step), so at most kEventBudget - 1 passes do;
+//     the block walks search a tick at most once per step, since they move on past it. At L = 0
+//     (the firmware's plan, and Q7.24) that is kEventBudget, which the static bound charges per
+//     step rather than per pass (port/baremetal/loop-bounds.json "calls");
 //   - Q7.24: no block walk; finish_tick_cubic() once per slip phase, its root search at most
 //     kCubicRootNewtonSteps Newton steps from the root of its quadratic part (and one
 //     proportion for a dip's minimum).
@@ -381,7 +385,7 @@ int Oscillator<T, Law>::step_held(const Input& in) noexcept {
       // Slipping again only if the friction saturates against the load; otherwise held at rest
       // for the rest of the step (no further events to look for).
       const bool saturated = S::abs(force) == friction_.kinetic_n && force != T(0);
-      unsearched = saturated && events >= kEventBudget;
+      unsearched = saturated && events >= event_budget();
       d = saturated && !unsearched ? signum(force) : T(0);
       starting = d != T(0);
     }
@@ -452,7 +456,7 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
       const bool held = S::abs(limit_end) <= friction_.static_n &&
                         (pos.tick != 0u || pos.frac != T(0) ||
                          S::abs(limit_force(in.a0, x_)) <= friction_.static_n);
-      if (held || events >= kEventBudget) {
+      if (held || events >= event_budget()) {
         // At the budget the seat stays stuck to the end; counted where that lost a break-away.
         if (!held) ++counters_.event_budget_exhausted;
         stuck_fraction += T(1) - phi_now;
@@ -493,9 +497,20 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
       starting = true;
       continue;
     }
-    const bool detect = events < kEventBudget;
-    const T d = detect ? direction_ : T(0);
-    if (!slip_piece(pos, d, in, starting, events == 0 ? whole_step : nullptr)) {
+    const bool detect = events < event_budget();
+    // A slip that starts from rest towards the way F_L moves over the step (at fixed x_r), or
+    // with F_L constant, does not return to rest in it (step_common.hpp): a return found there is
+    // rounding's (a_r ~ 0 where |F_L| ~ F_fs), which would stick the seat and break it away
+    // again at once. It slips on from there to the step's end, unsearched: at most two passes.
+    const bool returns_by_rounding_only = starting && direction_ * (in.a0 - in.a1) >= T(0);
+    T d = detect ? direction_ : T(0);
+    bool returned;
+    for (;;) {
+      returned = slip_piece(pos, d, in, starting, events == 0 ? whole_step : nullptr);
+      if (!returned || !returns_by_rounding_only || d == T(0)) break;
+      d = T(0);
+    }
+    if (!returned) {
       // At the budget the slip runs to the end unsearched; counted where it lost an event (v_r
       // ended against its direction).
       if (!detect && v_ * direction_ < T(0)) ++counters_.event_budget_exhausted;

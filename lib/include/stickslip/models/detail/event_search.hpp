@@ -20,7 +20,8 @@
 //     but the last locates one event; at the budget the step finishes in its mode, counted where
 //     that lost an event: stuck with |F_L| beyond F_fs at the end, or v_r against the direction);
 //     in step_sticking() a pass slips at most twice, the second time on from a return to rest
-//     that only rounding finds, unsearched, to the step's end:
+//     that only rounding finds, unsearched, to the step's end; only a pass below the budget
+//     finds one, so a step slips at most kEventBudget + 1 times either way:
 //     the exact solution's own 3 for a slip force constant over each piece of motion
 //     (step_common.hpp), every law and scalar, and kMaxEventsPerStep = 32 for Stribeck under RK4,
 //     whose stages follow v_r (with end stops, end_stop_search.hpp: 10 for Coulomb);

@@ -5,8 +5,9 @@
 //     calls, a run that returns an event included (event_search.hpp), and exactly 1 for L = 0,
 //     the firmware's plan, in the steps with several events too;
 //   - the searches of a tick's polynomial for v_r = 0 (Oscillator, first_crossing()): at most
-//     (kEventBudget - 1) + 2^L per step, reached at L = 0 (3, where each of the step's passes
-//     may search), in double, float and Q7.24;
+//     kEventBudget / 2 + 2^L per step, reached at L = 0 (2: the first pass's and one slip from
+//     rest against the way F_L moves), in double, float and Q7.24, and none in a step whose one
+//     event is a break-away (its slip goes with F_L and cannot return to rest);
 //   - the end-stop scan (EndStopOscillator::move_to_mode_end()): at most 16 blocks per call over
 //     its two scans together, the runs that leave the mode included, its dip bisection at most
 //     kEventLevels - 4 = 12 halvings per call, and at most 2 ticks it solves itself per call
@@ -115,12 +116,14 @@ std::vector<double> hostile_floor(std::mt19937_64& rng, int n, std::size_t sampl
   return a;
 }
 
-// The most tick searches one step makes: one per pass that slips from inside a tick, which the
-// first pass (from the step's start, not a slip's) and the pass past the budget (no search)
-// never are, and at most one per tick in the block walks, which move on past a tick searched.
+// The most tick searches one step makes: one per pass that slips from rest against the way F_L
+// moves and right after no such pass that searched (one in two of the passes below the budget;
+// the first pass starts at the step's start, not a slip's, and the pass past the budget
+// searches nothing), and at most one per tick in the block walks, which move on past a tick
+// searched.
 template <typename Model>
 long tick_search_bound(int level) {
-  return (Model::kEventBudget - 1) + (1L << level);
+  return Model::kEventBudget / 2 + (1L << level);
 }
 
 template <typename T, typename Law>
@@ -208,11 +211,12 @@ TEST(LoopRuns, TheBlockWalkAndTheTickSearchesOfAStepKeepTheirCountsAndReachThemA
   }
   LONGS_EQUAL(0, walk.steps_over_bound);
   LONGS_EQUAL(1, walk.most_per_step);  // L = 0: one run, reached, in steps of several events too
-  // The tick searches: within their bound at every level, which L = 0 reaches (3 with the budget
+  // The tick searches: within their bound at every level, which L = 0 reaches (2 with the budget
   // of 3), in float and double and in Q7.24.
   LONGS_EQUAL(0, walk.steps_over_search_bound);
-  LONGS_EQUAL(kMaxEventsOfTheExactSolutionPerStep, walk.most_searches_at_level_0);
-  LONGS_EQUAL(kMaxEventsOfTheExactSolutionPerStep, walk.most_searches_q724);
+  constexpr long kSearchesAtLevel0 = kMaxEventsOfTheExactSolutionPerStep / 2 + 1;
+  LONGS_EQUAL(kSearchesAtLevel0, walk.most_searches_at_level_0);
+  LONGS_EQUAL(kSearchesAtLevel0, walk.most_searches_q724);
   CHECK_TRUE(walk.steps_with_several_events > 100);
   CHECK_TRUE((levels_seen & 1) != 0);
   CHECK_TRUE(most_level >= 6);
@@ -243,4 +247,67 @@ TEST(LoopRuns, TheEndStopScanRunsSixteenBlocksACallItsDipBisectionTwelveAndItSol
   // The per-call count holds where a dip split the scan in two, and such calls are many.
   CHECK_TRUE(tally.calls_with_a_second_scan > 100);
   CHECK_TRUE(tally.most_scan_with_a_second_scan <= 16);
+}
+
+namespace {
+
+// The reference seat stuck at rest, then a floor ramp that takes F_L = -m a_u through -F_fs
+// inside one step (a_u from 0.3 to 0.6 m/s^2, F_fs = 45 N at a_u = 0.509): the step's one event
+// is a break-away with F_L, and its slip is not searched for a return to rest. Returns the tick
+// searches and the events of that step, and the direction the seat slips at its end.
+template <typename Seat, typename Scalar>
+void break_away_step(Seat& seat, long& searches, int& events, double& v_end) {
+  for (int n = 0; n < 20; ++n) seat.step(Scalar(0.0));
+  seat.step(Scalar(0.3));
+  tally.tick_search = 0;
+  const auto out = seat.step(Scalar(0.6));
+  searches = tally.tick_search;
+  events = out.events;
+  v_end = static_cast<double>(out.v_r_m_per_s);
+}
+
+OscillatorParams reference_stick_slip_seat() {
+  OscillatorParams p;
+  p.mass_kg = 88.4;
+  p.stiffness_n_per_m = 11500.0;
+  p.damping_ns_per_m = 504.0;
+  p.kinetic_friction_n = 45.0;
+  p.static_friction_n = 45.0;
+  p.dt_s = 1e-3;
+  p.model = FrictionModel::stick_slip;
+  p.integrator = Integrator::exact;
+  return p;
+}
+
+template <typename T>
+void check_break_away_unsearched() {
+  Oscillator<T, Counting<CoulombStickSlip>> seat;
+  CHECK_TRUE(seat.configure(reference_stick_slip_seat()).ok());
+  long searches = -1;
+  int events = 0;
+  double v_end = 0.0;
+  break_away_step<decltype(seat), T>(seat, searches, events, v_end);
+  LONGS_EQUAL(1, events);
+  LONGS_EQUAL(0, searches);
+  CHECK_TRUE(v_end < 0.0);  // slipping with F_L, away from the floor's push
+}
+
+}  // namespace
+
+TEST(LoopRuns, ABreakAwayInsideAStepSlipsToItsEndWithoutASearch) {
+  check_break_away_unsearched<double>();
+  check_break_away_unsearched<float>();
+  OscillatorParams p = reference_stick_slip_seat();
+  p.input_range_m_per_s2 = 32.768;
+  p.displacement_range_m = 0.1;
+  ScaledOscillator<Fixed32, Counting<CoulombStickSlip>> seat;
+  CHECK_TRUE(seat.configure(p).ok());
+  const double a_unit = seat.units().acceleration_m_per_s2();
+  for (int n = 0; n < 20; ++n) seat.step(Fixed32(0.0));
+  seat.step(Fixed32(0.3 / a_unit));
+  tally.tick_search = 0;
+  const auto out = seat.step(Fixed32(0.6 / a_unit));
+  LONGS_EQUAL(1, out.events);
+  LONGS_EQUAL(0, tally.tick_search);
+  CHECK_TRUE(out.v_r_m_per_s < Fixed32(0.0));
 }

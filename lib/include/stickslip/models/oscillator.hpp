@@ -387,6 +387,11 @@ class Oscillator {
     unsigned tick;
     T frac;
   };
+  // How a piece of slip motion begins: inside its slip phase, or at the phase's start from rest
+  // (a break-away or a reversal), where v_r's rounding is clamped to the slip's direction; from
+  // rest searched for a return to rest, or not where the exact solution has none in the step
+  // (step_common.hpp).
+  enum class PieceStart : unsigned char { kInPhase, kFromRest, kFromRestNoReturn };
   struct ConstantForce {
     T force_n;
     T operator()(T /*v*/) const noexcept { return force_n; }
@@ -468,17 +473,17 @@ class Oscillator {
                                                       T u_start, Position& pos, T& x,
                                                       T& v) noexcept;
   STICKSLIP_COMPACT_INLINE bool finish_tick_taylor(Position& pos, T& x, T& v, T d, const Input& in,
-                                                   T force_n, bool starting) const noexcept;
+                                                   T force_n, PieceStart start) const noexcept;
   STICKSLIP_COMPACT_INLINE bool finish_tick_cubic(Position& pos, T& x, T& v, T d, const Input& in,
-                                                  T force_n, bool starting) const noexcept;
+                                                  T force_n, PieceStart start) const noexcept;
   STICKSLIP_COMPACT_INLINE bool finish_tick_interpolated(Position& pos, T& x, T& v, T d,
                                                          const Input& in, T force_n,
-                                                         bool starting) const noexcept;
+                                                         PieceStart start) const noexcept;
   template <typename Force>
   STICKSLIP_COMPACT_INLINE bool slip(Position& pos, T& x, T& v, T d, const Input& in,
-                                     const Force& force, bool starting = false,
+                                     const Force& force, PieceStart start = PieceStart::kInPhase,
                                      const WholeSlip<T>* whole_step = nullptr) const noexcept;
-  STICKSLIP_COMPACT_INLINE bool slip_piece(Position& pos, T d, const Input& in, bool starting,
+  STICKSLIP_COMPACT_INLINE bool slip_piece(Position& pos, T d, const Input& in, PieceStart start,
                                            const WholeSlip<T>* whole_step) noexcept;
   STICKSLIP_OUT_OF_LINE int step_held(const Input& in) noexcept;
   STICKSLIP_OUT_OF_LINE bool whole_step_slips(const Input& in, StepOutput<T>& out) noexcept;

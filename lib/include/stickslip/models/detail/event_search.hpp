@@ -18,10 +18,7 @@
 // floating point, 10 in Q23.40, 0 in Q7.24):
 //   - step_sticking()'s and step_held()'s event loops: at most kEventBudget + 1 passes (each pass
 //     but the last locates one event; at the budget the step finishes in its mode, counted where
-//     that lost an event: stuck with |F_L| beyond F_fs at the end, or v_r against the direction);
-//     in step_sticking() a pass slips at most twice, the second time on from a return to rest
-//     that only rounding finds, unsearched, to the step's end; only a pass below the budget
-//     finds one, so a step slips at most kEventBudget + 1 times either way:
+//     that lost an event: stuck with |F_L| beyond F_fs at the end, or v_r against the direction):
 //     the exact solution's own 3 for a slip force constant over each piece of motion
 //     (step_common.hpp), every law and scalar, and kMaxEventsPerStep = 32 for Stribeck under RK4,
 //     whose stages follow v_r (with end stops, end_stop_search.hpp: 10 for Coulomb);
@@ -37,14 +34,18 @@
 //     then a loop of bisections);
 //     proportion(): F shift-and-subtract rounds (fixed point);
 //   - searches of a tick's polynomial (first_crossing(), every scalar): at most
-//     (kEventBudget - 1) + 2^L per step. A pass that slips from inside a tick searches it once
-//     (finish_tick_*()); the first pass starts at the step's start, not inside a tick nor at a
-//     slip's start (Q7.24 excepted, whose one tick the first pass searches in place of a walk),
-//     and the pass past the budget searches nothing (d = 0), nor the slip on from a return to
-//     rest that only rounding finds (which ends the step), so at most kEventBudget - 1 passes do;
-//     the block walks search a tick at most once per step, since they move on past it. At L = 0
-//     (the firmware's plan, and Q7.24) that is kEventBudget, which the static bound charges per
-//     step rather than per pass (port/baremetal/loop-bounds.json "calls");
+//     kEventBudget / 2 + 2^L per step in step_sticking(), (kEventBudget - 1) + 2^L in
+//     step_held(). A pass that slips from inside a tick searches it once (finish_tick_*()); the
+//     first pass starts at the step's start, not inside a tick nor at a slip's start (Q7.24
+//     excepted, whose one tick the first pass searches in place of a walk), and the pass past
+//     the budget searches nothing (d = 0); in step_sticking() neither does a slip from rest
+//     towards the way F_L moves (every break-away inside the step: it cannot return to rest in
+//     it) nor one right after a slip from rest that was searched, so at most kEventBudget / 2 of
+//     the passes below the budget search (one in two of passes 1 to kEventBudget - 1), where
+//     step_held() searches in each of them. The block walks search a tick at most once per
+//     step, since they move on past it. At L = 0 (the firmware's plan, and Q7.24) that is 2 for
+//     the budget of 3, which the static bound charges per step rather than per pass
+//     (port/baremetal/loop-bounds.json "calls");
 //   - Q7.24: no block walk; finish_tick_cubic() once per slip phase, its root search at most
 //     kCubicRootNewtonSteps Newton steps from the root of its quadratic part (and one
 //     proportion for a dip's minimum).
@@ -158,11 +159,14 @@ inline bool Oscillator<T, Law>::end_on_segment(const Segment& segment, bool foun
 
 // Exact integrator: from `pos` inside a tick (or at a slip start) to the end of that tick on
 // the Taylor polynomial of the exact solution, with the friction force_n held. Returns true
-// with v_r = 0 and `pos` at the first instant where v_r d turns negative (d != 0).
+// with v_r = 0 and `pos` at the first instant where v_r d turns negative (d != 0; not searched
+// for PieceStart::kFromRestNoReturn).
 template <typename T, typename Law>
 inline bool Oscillator<T, Law>::finish_tick_taylor(Position& pos, T& x, T& v, T d, const Input& in,
-                                                   T force_n, bool starting) const noexcept {
+                                                   T force_n, PieceStart start) const noexcept {
   const T scaled_force = inv_mass_ * force_n;
+  const bool search = start != PieceStart::kFromRestNoReturn;
+  bool starting = start != PieceStart::kInPhase;
   for (;;) {
     const T u_start = pos.frac;
     const T span = T(1) - u_start;
@@ -199,10 +203,12 @@ inline bool Oscillator<T, Law>::finish_tick_taylor(Position& pos, T& x, T& v, T 
           return false;
         }
       }
-      T root = T(0);
-      law_detail::count_loop_run<Law>(LoopRun::tick_search);
-      const bool found = segment.first_crossing(d, lo, span, at_lo, root);
-      return end_on_segment(segment, found, root, u_start, pos, x, v);
+      if (search) {
+        T root = T(0);
+        law_detail::count_loop_run<Law>(LoopRun::tick_search);
+        const bool found = segment.first_crossing(d, lo, span, at_lo, root);
+        return end_on_segment(segment, found, root, u_start, pos, x, v);
+      }
     }
     return end_on_segment(segment, false, T(0), u_start, pos, x, v);
   }
@@ -210,11 +216,13 @@ inline bool Oscillator<T, Law>::finish_tick_taylor(Position& pos, T& x, T& v, T 
 
 // The other integrators (and fixed point): from `pos` inside a tick (or at a slip start) to the
 // end of that tick with a second-order Taylor step, friction force_n held; a sign change of v_r d
-// is placed by linear interpolation. Returns true with v_r = 0 and `pos` at that instant.
+// is placed by linear interpolation (not for PieceStart::kFromRestNoReturn). Returns true with
+// v_r = 0 and `pos` at that instant.
 template <typename T, typename Law>
 inline bool Oscillator<T, Law>::finish_tick_interpolated(Position& pos, T& x, T& v, T d,
                                                          const Input& in, T force_n,
-                                                         bool starting) const noexcept {
+                                                         PieceStart start) const noexcept {
+  const bool starting = start != PieceStart::kInPhase;
   const T h = (T(1) - pos.frac) * tick_s_;
   const T a = relative_acceleration(x, v, force_n, in.at(phi(pos)));
   const T jerk = -(k_over_m_ * v + b_over_m_ * a) - by_unit(inv_dt_, in.a1 - in.a0);
@@ -225,7 +233,7 @@ inline bool Oscillator<T, Law>::finish_tick_interpolated(Position& pos, T& x, T&
   if (S::abs(v) <= rest_rounding_velocity(event_level_, x, force_n, in.at(phi(pos)), in) &&
       S::abs(v_end) <= rest_rounding_velocity(event_level_, x, force_n, in.at(phi(pos)), in))
     v_end = T(0);
-  if (v_end * d < T(0)) {
+  if (start != PieceStart::kFromRestNoReturn && v_end * d < T(0)) {
     const T theta = S::proportion(v, v - v_end);
     x = x + theta * (x_end - x);
     v = T(0);
@@ -242,10 +250,11 @@ inline bool Oscillator<T, Law>::finish_tick_interpolated(Position& pos, T& x, T&
 // Fixed point with one tick per step (ScalarTraits::kCubicEventSearch): from `pos` inside the
 // tick (or at a slip start) to its end on the cubic Taylor polynomial of the exact solution
 // (integrators/cubic_segment.hpp), friction force_n held, as finish_tick_taylor() does with its
-// polynomial. Returns true with v_r = 0 and `pos` at the first instant where v_r d turns negative.
+// polynomial. Returns true with v_r = 0 and `pos` at the first instant where v_r d turns negative
+// (not searched for PieceStart::kFromRestNoReturn).
 template <typename T, typename Law>
 inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d, const Input& in,
-                                                  T force_n, bool starting) const noexcept {
+                                                  T force_n, PieceStart start) const noexcept {
   // Compiled for the scalars whose traits offer the cubic search only (slip() calls this for
   // them alone; the explicit instantiations of the others compile every member).
   if constexpr (S::kCubicEventSearch) {
@@ -253,16 +262,17 @@ inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d
     T a = relative_acceleration(x, v, force_n, input_at(in, phi(pos)));
     // A slip phase starts at rest with a_r d >= 0 (the stick decision): the opposite sign is
     // rounding. (The search from rest needs no start guard: see CubicSegment::first_crossing().)
-    if (starting && a * d < T(0)) a = T(0);
+    if (start != PieceStart::kInPhase && a * d < T(0)) a = T(0);
     const T jerk = -(k_over_m_ * v + b_over_m_ * a) - by_unit(inv_dt_, in.a1 - in.a0);
     const T snap = -(k_over_m_ * a + b_over_m_ * jerk);
     const CubicSegment<T> segment(x, v, a, jerk, snap);
     T root = T(0);
-    if (d != T(0)) law_detail::count_loop_run<Law>(LoopRun::tick_search);
-    const bool found = d != T(0) && segment.first_crossing(d, span, root);
+    const bool search = d != T(0) && start != PieceStart::kFromRestNoReturn;
+    if (search) law_detail::count_loop_run<Law>(LoopRun::tick_search);
+    const bool found = search && segment.first_crossing(d, span, root);
     return end_on_segment(segment, found, root, pos.frac, pos, x, v);
   } else {
-    (void)pos, (void)x, (void)v, (void)d, (void)in, (void)force_n, (void)starting;
+    (void)pos, (void)x, (void)v, (void)d, (void)in, (void)force_n, (void)start;
     return false;
   }
 }
@@ -270,27 +280,30 @@ inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d
 // Integrates from `pos` to the end of the step with the given friction. With direction d != 0,
 // stops at the first instant where v_r*d turns negative: returns true with v_r = 0 and `pos` at
 // that instant. d = 0 integrates to the end without looking for events.
-// `starting`: the slip phase begins here (break-away or reversal), where a_r*d >= 0 by the stick
-// decision; its first 1/2^kEventLevels of the step cannot hold a genuine crossing, so v_r*d is
-// clamped at 0 there instead of letting rounding (a_r ~ 0 when |F_L| ~ F_fs) fake one.
+// `start` other than kInPhase: the slip phase begins here (break-away or reversal), where
+// a_r*d >= 0 by the stick decision; its first 1/2^kEventLevels of the step cannot hold a genuine
+// crossing, so v_r*d is clamped at 0 there instead of letting rounding (a_r ~ 0 when
+// |F_L| ~ F_fs) fake one. kFromRestNoReturn: clamped so, then integrated to the end without
+// looking for events.
 // `whole_step`: the common path's whole step from the start of the step, if it was computed.
 template <typename T, typename Law>
 template <typename Force>
 inline bool Oscillator<T, Law>::slip(Position& pos, T& x, T& v, T d, const Input& in,
-                                     const Force& force, bool starting,
+                                     const Force& force, PieceStart start,
                                      const WholeSlip<T>* whole_step) const noexcept {
   if constexpr (S::kCubicEventSearch) {
     // One tick per step: its polynomial finds the crossing, a dip included, with no block maps.
     (void)whole_step;
-    return pos.tick < ticks_per_step_ && finish_tick_cubic(pos, x, v, d, in, force(v), starting);
+    return pos.tick < ticks_per_step_ && finish_tick_cubic(pos, x, v, d, in, force(v), start);
   }
-  if (pos.tick < ticks_per_step_ && (pos.frac > T(0) || starting)) {
+  if (pos.tick < ticks_per_step_ && (pos.frac > T(0) || start != PieceStart::kInPhase)) {
     if (taylor_search()) {
-      if (finish_tick_taylor(pos, x, v, d, in, force(v), starting)) return true;
-    } else if (finish_tick_interpolated(pos, x, v, d, in, force(v), starting)) {
+      if (finish_tick_taylor(pos, x, v, d, in, force(v), start)) return true;
+    } else if (finish_tick_interpolated(pos, x, v, d, in, force(v), start)) {
       return true;
     }
   }
+  if (start == PieceStart::kFromRestNoReturn) d = T(0);  // the rest of the step: no search
   while (pos.tick < ticks_per_step_) {
     law_detail::count_loop_run<Law>(LoopRun::block_walk);
     // The largest dyadic block aligned at pos.tick (the whole step from the start).
@@ -378,9 +391,9 @@ int Oscillator<T, Law>::step_held(const Input& in) noexcept {
   } else if (held_events_ && force != T(0)) {
     Position pos{0u, T(0)};
     T d = signum(v_);
-    bool starting = false;
+    PieceStart start = PieceStart::kInPhase;
     bool unsearched = false;  // at the budget: the rest of the step slips without a search
-    while (slip(pos, x_, v_, d, in, ConstantForce{force}, starting)) {
+    while (slip(pos, x_, v_, d, in, ConstantForce{force}, start)) {
       ++events;
       force = Law::force_at_rest(limit_force(in.at(phi(pos)), x_), friction_);
       // Slipping again only if the friction saturates against the load; otherwise held at rest
@@ -388,7 +401,7 @@ int Oscillator<T, Law>::step_held(const Input& in) noexcept {
       const bool saturated = S::abs(force) == friction_.kinetic_n && force != T(0);
       unsearched = saturated && events >= event_budget();
       d = saturated && !unsearched ? signum(force) : T(0);
-      starting = d != T(0);
+      start = d != T(0) ? PieceStart::kFromRest : PieceStart::kInPhase;
     }
     // Counted where the budget lost an event: the unsearched slip ended against its direction.
     if (unsearched && v_ * force < T(0)) ++counters_.event_budget_exhausted;
@@ -427,15 +440,15 @@ bool Oscillator<T, Law>::whole_step_slips(const Input& in, StepOutput<T>& out) n
 // re-sampled at the blocks the event search happens to visit, so the trajectory does not depend
 // on the search's grid (and EndStopOscillator's, out of reach of its stops, is this one).
 template <typename T, typename Law>
-inline bool Oscillator<T, Law>::slip_piece(Position& pos, T d, const Input& in, bool starting,
+inline bool Oscillator<T, Law>::slip_piece(Position& pos, T d, const Input& in, PieceStart start,
                                            const WholeSlip<T>* whole_step) noexcept {
   if constexpr (Law::velocity_dependent) {
     if (!stage_friction_) {
       const ConstantForce held{Law::slip_force(v_, direction_, friction_)};
-      return slip(pos, x_, v_, d, in, held, starting, whole_step);
+      return slip(pos, x_, v_, d, in, held, start, whole_step);
     }
   }
-  return slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, starting, whole_step);
+  return slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, start, whole_step);
 }
 
 // Stick-slip and Stribeck: the event loop of one step. `whole_step`: the common path's whole
@@ -445,7 +458,8 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
                                       const WholeSlip<T>* whole_step) noexcept {
   Position pos{0u, T(0)};
   int events = 0;
-  bool starting = false;  // a slip phase begins at pos (after break-away or reversal)
+  bool starting = false;            // a slip phase begins at pos (after break-away or reversal)
+  bool searched_from_rest = false;  // the step's last slip from rest looked for a return to rest
   for (;;) {
     if (direction_ == T(0)) {
       // Stuck: F_L is linear in time inside the step; check the end, then solve for break-away.
@@ -500,18 +514,23 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
     }
     const bool detect = events < event_budget();
     // A slip that starts from rest towards the way F_L moves over the step (at fixed x_r), or
-    // with F_L constant, does not return to rest in it (step_common.hpp): a return found there is
-    // rounding's (a_r ~ 0 where |F_L| ~ F_fs), which would stick the seat and break it away
-    // again at once. It slips on from there to the step's end, unsearched: at most two passes.
-    const bool returns_by_rounding_only = starting && direction_ * (in.a0 - in.a1) >= T(0);
-    T d = detect ? direction_ : T(0);
-    bool returned;
-    for (;;) {
-      returned = slip_piece(pos, d, in, starting, events == 0 ? whole_step : nullptr);
-      if (!returned || !returns_by_rounding_only || d == T(0)) break;
-      d = T(0);
+    // with F_L constant, does not return to rest in it (step_common.hpp): every break-away inside
+    // the step, since F_L reaches F_fs moving towards it. It runs to the step's end unsearched: a
+    // return found there would be rounding's (a_r ~ 0 where |F_L| ~ F_fs), sticking the seat to
+    // break it away again at once. So only a slip from rest against that way is searched, and
+    // never two in a row: after one, the exact solution's next slip from rest goes with F_L (a
+    // reversal turns the slip, a break-away inside the step goes with F_L), so a second would be
+    // rounding's too. The searches of a step are then at most kEventBudget / 2 from rest (one
+    // pass in two below the budget) and the first pass's.
+    PieceStart start = PieceStart::kInPhase;
+    if (starting) {
+      const bool against = direction_ * (in.a0 - in.a1) < T(0);
+      start =
+          against && !searched_from_rest ? PieceStart::kFromRest : PieceStart::kFromRestNoReturn;
+      searched_from_rest = start == PieceStart::kFromRest;
     }
-    if (!returned) {
+    const T d = detect ? direction_ : T(0);
+    if (!slip_piece(pos, d, in, start, events == 0 ? whole_step : nullptr)) {
       // At the budget the slip runs to the end unsearched; counted where it lost an event (v_r
       // ended against its direction).
       if (!detect && v_ * direction_ < T(0)) ++counters_.event_budget_exhausted;

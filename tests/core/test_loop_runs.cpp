@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "CppUTest/TestHarness.h"
+#include "oracles.hpp"
 #include "stickslip/core/fixed_point32.hpp"
 #include "stickslip/integrators/step_map.hpp"
 #include "stickslip/models/end_stops.hpp"
@@ -253,61 +254,41 @@ namespace {
 
 // The reference seat stuck at rest, then a floor ramp that takes F_L = -m a_u through -F_fs
 // inside one step (a_u from 0.3 to 0.6 m/s^2, F_fs = 45 N at a_u = 0.509): the step's one event
-// is a break-away with F_L, and its slip is not searched for a return to rest. Returns the tick
-// searches and the events of that step, and the direction the seat slips at its end.
-template <typename Seat, typename Scalar>
-void break_away_step(Seat& seat, long& searches, int& events, double& v_end) {
-  for (int n = 0; n < 20; ++n) seat.step(Scalar(0.0));
-  seat.step(Scalar(0.3));
+// is a break-away with F_L, and its slip is not searched for a return to rest. `a_unit`: the
+// seat's unit of acceleration in m/s^2 (1 in SI units).
+template <typename T, typename Seat>
+void check_break_away_unsearched(Seat& seat, double a_unit) {
+  for (int n = 0; n < 20; ++n) seat.step(T(0.0));
+  seat.step(T(0.3 / a_unit));
   tally.tick_search = 0;
-  const auto out = seat.step(Scalar(0.6));
-  searches = tally.tick_search;
-  events = out.events;
-  v_end = static_cast<double>(out.v_r_m_per_s);
+  const StepOutput<T> out = seat.step(T(0.6 / a_unit));
+  LONGS_EQUAL(1, out.events);
+  LONGS_EQUAL(0, tally.tick_search);
+  CHECK_TRUE(out.v_r_m_per_s < T(0.0));  // slipping with F_L, away from the floor's push
 }
 
 OscillatorParams reference_stick_slip_seat() {
-  OscillatorParams p;
-  p.mass_kg = 88.4;
-  p.stiffness_n_per_m = 11500.0;
-  p.damping_ns_per_m = 504.0;
-  p.kinetic_friction_n = 45.0;
-  p.static_friction_n = 45.0;
-  p.dt_s = 1e-3;
-  p.model = FrictionModel::stick_slip;
-  p.integrator = Integrator::exact;
+  OscillatorParams p = test::reference_params(FrictionModel::stick_slip, Integrator::exact, 1e-3);
+  p.kinetic_friction_n = p.static_friction_n = 45.0;
   return p;
 }
 
 template <typename T>
-void check_break_away_unsearched() {
+void check_break_away_unsearched_in_si_units() {
   Oscillator<T, Counting<CoulombStickSlip>> seat;
   CHECK_TRUE(seat.configure(reference_stick_slip_seat()).ok());
-  long searches = -1;
-  int events = 0;
-  double v_end = 0.0;
-  break_away_step<decltype(seat), T>(seat, searches, events, v_end);
-  LONGS_EQUAL(1, events);
-  LONGS_EQUAL(0, searches);
-  CHECK_TRUE(v_end < 0.0);  // slipping with F_L, away from the floor's push
+  check_break_away_unsearched<T>(seat, 1.0);
 }
 
 }  // namespace
 
 TEST(LoopRuns, ABreakAwayInsideAStepSlipsToItsEndWithoutASearch) {
-  check_break_away_unsearched<double>();
-  check_break_away_unsearched<float>();
+  check_break_away_unsearched_in_si_units<double>();
+  check_break_away_unsearched_in_si_units<float>();
   OscillatorParams p = reference_stick_slip_seat();
   p.input_range_m_per_s2 = 32.768;
   p.displacement_range_m = 0.1;
   ScaledOscillator<Fixed32, Counting<CoulombStickSlip>> seat;
   CHECK_TRUE(seat.configure(p).ok());
-  const double a_unit = seat.units().acceleration_m_per_s2();
-  for (int n = 0; n < 20; ++n) seat.step(Fixed32(0.0));
-  seat.step(Fixed32(0.3 / a_unit));
-  tally.tick_search = 0;
-  const auto out = seat.step(Fixed32(0.6 / a_unit));
-  LONGS_EQUAL(1, out.events);
-  LONGS_EQUAL(0, tally.tick_search);
-  CHECK_TRUE(out.v_r_m_per_s < Fixed32(0.0));
+  check_break_away_unsearched<Fixed32>(seat, seat.units().acceleration_m_per_s2());
 }

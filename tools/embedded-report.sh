@@ -555,16 +555,25 @@ m4_searches = [fact for fact in wcet["cortex-m4f"]["frame"].get("calls", [])
                if "first_crossing" in fact["callee"]]
 m4_searches_per_step = m4_searches[0]["bound"] if m4_searches else 0
 m0_step = wcet["cortex-m0plus"]["step"]["instructions_bound"]
+m0_searches = [fact for fact in wcet["cortex-m0plus"]["step"].get("calls", [])
+               if "falling_quadratic_root" in fact["callee"]]
+m0_searches_per_step = m0_searches[0]["bound"] if m0_searches else 0
+m0_newton_per_step = next((loop["bound"] for loop in wcet["cortex-m0plus"]["step"]["loops"]
+                           if "Newton" in loop.get("why", "") and loop["per_call"]), 0)
 m0_frame = wcet["cortex-m0plus"]["frame"]["instructions_bound"]
 m0_hard = int(hard.get("cortex-m0plus", {}).get("instructions_per_frame_max", 0))
 m0_gap = wcet["cortex-m0plus"]["gap"]
 w(f"**What the bound says.** **Cortex-M0+**: no frame that follows no gap takes more than "
   f"{m0_frame:,} instructions, {m0_frame / max(m0_hard, 1):.1f} times the worst the hardest set "
-  f"reaches ({m0_hard:,}). The analysis takes every path as feasible: each of the event loop's 4 "
-  "passes is charged its costliest branch, a full cubic search with every Newton step's fallback, "
-  "where a stuck pass takes a proportion, a slip from a break-away searches nothing and at most 2 "
-  "passes of a step search (the search is inlined in the step, so the analysis cannot count its "
-  "runs per step as it does the Cortex-M4F's), so the bound is safe, not tight. Neither it nor the measured worst meets the 4,000 target. "
+  f"reaches ({m0_hard:,}). The analysis takes every path as feasible. The search is inlined in "
+  "the step, so its costliest parts are bounded per step rather than per pass: "
+  f"{m0_newton_per_step} Newton steps (at most {m0_searches_per_step} searches of a step, the "
+  "most `LoopRuns.*` reaches in Q7.24, times `kCubicRootNewtonSteps`), each charged its "
+  "costliest branch, the fallback's included, and as many roots of the quadratic part that "
+  "start them; each of the event loop's 4 passes is then charged the costliest rest of a pass "
+  "(a cubic segment, its value at the step's end, the dip test and the state at the root), "
+  "where a stuck pass takes a proportion and a slip from a break-away searches nothing, so the "
+  "bound is safe, not tight. Neither it nor the measured worst meets the 4,000 target. "
   f"**A frame after a gap**: the node steps a held sample for every lost one before the frame's "
   f"own (`EcuNode::on_frame()`, `CheckerConfig::max_gap` = {m0_gap['constants']['max_gap']} "
   f"by default), so one frame may step {m0_gap['constants']['max_gap'] + 1} samples: "
@@ -604,9 +613,12 @@ m3_same = m3.get("frames_against_m0plus") == "identical"
 w("**Why the targets are missed.** "
   "**Cortex-M0+**: the cost of the arithmetic. A Q7.24 product is about 40 ARMv6-M instructions "
   "(four 16 x 16-bit MULS, rounding, saturation, and the call), a proportion about 140, a "
-  "saturating add about 12. A frame without events is already about 1,560 where the seat stays "
-  "stuck and 2,380 where it slips through the step (the whole-step slip about 930; the node and "
-  "the board's mailbox about 1,440 of either, the window's sums and five word conversions "
+  "saturating add about 7 (ADDS and its overflow flag in inline assembly, "
+  "`core/fixed_point32.hpp`: GCC tests the flag with logical operations, about 12; CTest "
+  "`embedded.kernels_match_reference_code` checks the three kernels as the target runs them "
+  "against 64-bit reference code on QEMU). A frame without events is already about 1,550 where "
+  "the seat stays stuck and 2,290 where it slips through the step (the whole-step slip about "
+  "850; the node and the board's mailbox about 1,430 of either, the window's sums and five word conversions "
   "included; the board moves a classic frame's fields as words and halfwords, not the 80 bytes "
   "of `can::Frame`, and the receive checker writes its result in place, with no memset or "
   "memcpy call), SeatStats and SeatScene add about 410 every 10th frame, and the statistics "
@@ -620,8 +632,8 @@ w("**Why the targets are missed.** "
   "set, one that also runs a square root of the window); its events (a crossing of v_r = 0 located by the "
   "root search, a break-away, a slip to the end on a new cubic) are each a few dozen products "
   "(\"Where the worst frame goes\", below, counts them function by function). "
-  "A worst frame of 4,000 would leave about 750 "
-  "instructions per event beside the node's 1,440, some eighteen products. A faster multiply "
+  "A worst frame of 4,000 would leave about 850 "
+  "instructions per event beside the node's 1,430, some twenty products. A faster multiply "
   "alone does not meet it: the same node built for a Cortex-M3 (`cmake --preset cortex-m3`, "
   "whose 32 x 32 -> 64-bit UMULL makes the product a few instructions), run on QEMU's mps2-an385 "
   f"with the same hardest set, takes a median of {m3_p50:,} and a worst of {m3_max:,} "

@@ -11,48 +11,19 @@
 #include "board.hpp"
 #include "node.hpp"
 #include "replay.hpp"
+#include "semihosting.hpp"
 
 extern "C" void CAN0_IRQHandler();
 extern "C" std::uint32_t __bss_end, __stack_top;  // linker script
 
 namespace {
 
-// Arm semihosting (bkpt 0xab; r0 = operation, r1 = argument block).
-int semihost(int operation, const void* argument) {
-  register int r0 __asm("r0") = operation;
-  register const void* r1 __asm("r1") = argument;
-  __asm volatile("bkpt 0xab" : "+r"(r0) : "r"(r1) : "memory");
-  return r0;
-}
-constexpr int kSysOpen = 0x01, kSysWrite0 = 0x04, kSysWrite = 0x05, kSysRead = 0x06,
-              kSysExit = 0x18;
-
-int open_file(const char* name, int mode) {
-  std::size_t length = 0;
-  while (name[length] != '\0') ++length;
-  const std::uintptr_t block[3] = {reinterpret_cast<std::uintptr_t>(name),
-                                   static_cast<std::uintptr_t>(mode), length};
-  return semihost(kSysOpen, block);
-}
-void print(const char* text) {
-  semihost(kSysWrite0, text);
-}
-void print_number(std::uint64_t value) {
-  char digits[24];
-  int at = 23;
-  digits[at] = '\0';
-  do {
-    digits[--at] = static_cast<char>('0' + value % 10u);
-    value /= 10u;
-  } while (value != 0u);
-  print(digits + at);
-}
-[[noreturn]] void exit_with(bool success) {
-  // ADP_Stopped_ApplicationExit (QEMU exits 0) or ADP_Stopped_RunTimeErrorUnknown (exits 1).
-  semihost(kSysExit, reinterpret_cast<const void*>(success ? 0x20026u : 0x20023u));
-  for (;;) {
-  }
-}
+using semihosting::exit_with;
+using semihosting::kSysRead;
+using semihosting::kSysWrite;
+using semihosting::open_file;
+using semihosting::print;
+using semihosting::print_number;
 
 int input_file = -1, output_files[2] = {-1, -1};
 
@@ -61,14 +32,14 @@ struct ReadInput {
     const std::uintptr_t block[3] = {static_cast<std::uintptr_t>(input_file),
                                      reinterpret_cast<std::uintptr_t>(buffer), capacity};
     return capacity -
-           static_cast<std::size_t>(semihost(kSysRead, block));  // returns bytes NOT read
+           static_cast<std::size_t>(semihosting::call(kSysRead, block));  // returns bytes NOT read
   }
 };
 struct WriteOutput {
   void operator()(int file, const std::uint8_t* bytes, std::size_t count) const {
     const std::uintptr_t block[3] = {static_cast<std::uintptr_t>(output_files[file]),
                                      reinterpret_cast<std::uintptr_t>(bytes), count};
-    if (semihost(kSysWrite, block) != 0) {
+    if (semihosting::call(kSysWrite, block) != 0) {
       print("board_qemu: cannot write stickslip-frames.bin / stickslip-records.bin\n");
       exit_with(false);
     }

@@ -51,13 +51,50 @@ STICKSLIP_FIXED_INLINE constexpr std::int32_t saturate32(std::int64_t value) noe
 // In 32-bit words: on ARMv6-M a sign-extended 64-bit sum and its two-word range check cost about
 // 17 instructions a call, this about 11. The only sum that does not overflow int32 and still
 // leaves the symmetric range is -2^31, reached from two negative operands.
-STICKSLIP_FIXED_KERNEL constexpr std::int32_t add_raw32(std::int32_t a, std::int32_t b) noexcept {
+STICKSLIP_FIXED_INLINE constexpr std::int32_t add_raw32_portable(std::int32_t a,
+                                                                 std::int32_t b) noexcept {
   std::int32_t sum = 0;
   if (__builtin_add_overflow(a, b, &sum) || sum == INT32_MIN) {
     flag_saturation();
     return a < 0 ? -kMaxRaw32 : kMaxRaw32;
   }
   return sum;
+}
+
+#if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
+// The same sum by the flags: the overflow is the V flag of ADDS, which C++ cannot read (GCC tests
+// it with three logical operations, and -2^31 with a constant it builds in a register). The sum
+// leaves the symmetric range exactly where ADDS overflows or where SUBS of 1 from the sum does
+// (the sum is -2^31): about 6 instructions a call. Checked against add_raw32_portable() on the
+// target (port/baremetal/src/kernel_check.cpp, CTest embedded.kernels_match_portable_code).
+STICKSLIP_FIXED_INLINE std::int32_t add_raw32_by_flags(std::int32_t a, std::int32_t b) noexcept {
+  std::int32_t sum = 0, below = 0;
+  // GCC hands Thumb-1 inline assembly over in divided syntax: the block switches to unified
+  // syntax and back.
+  asm goto(
+      ".syntax unified\n\t"
+      "adds %0, %2, %3\n\t"
+      "bvs %l[out_of_range]\n\t"
+      "subs %1, %0, #1\n\t"
+      "bvs %l[out_of_range]\n\t"
+      ".syntax divided"
+      : "=l"(sum), "=l"(below)
+      : "l"(a), "l"(b)
+      : "cc"
+      : out_of_range);
+  return sum;
+out_of_range:
+  flag_saturation();
+  return a < 0 ? -kMaxRaw32 : kMaxRaw32;
+}
+#endif
+
+// a + b, saturated to the symmetric range.
+STICKSLIP_FIXED_KERNEL constexpr std::int32_t add_raw32(std::int32_t a, std::int32_t b) noexcept {
+#if defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)
+  if (!__builtin_is_constant_evaluated()) return add_raw32_by_flags(a, b);
+#endif
+  return add_raw32_portable(a, b);
 }
 
 // round(a b / 2^F) from four 16 x 16 -> 32-bit products in 32-bit words only, for ARMv6-M, where

@@ -24,8 +24,10 @@ Bounds file (JSON):
      per entry (its back edge is taken fewer times), "per_call": true when the bound holds for
      all entries in one call of the function together and counts every run of the body, one
      that leaves it from inside included (each run is then charged the longer of a turn and a
-     way out through the body, once per call, and each entry the header's test alone), "why":
-     the reason}
+     way out through the body, once per call, and each entry the header's test alone),
+     "shared": NAME, for per-call loops of one function whose runs together stay within the one
+     bound they all state (the passes of one loop that the compiler split in two: charged the
+     bound times the longest turn among them, once per call), "why": the reason}
   "calls": [{"function": REGEX, "callee": REGEX, "bound": as a loop's, "why": the reason}]: the
     function's own call sites of the callee together call it at most `bound` times per call of
     the function (wherever they sit, in loops or not): each site is charged nothing and the
@@ -279,6 +281,7 @@ def longest(function, costs, bounds_of, report, functions_name=lambda address: h
     """The longest path of function, with loops collapsed innermost first."""
     loops = function.loops()
     per_call_extra = 0
+    shared_runs = {}  # a group of per-call loops sharing one bound -> (bound, longest turn)
     # A callee with a call-count bound costs nothing at its sites; the function pays it that
     # many times, once per call.
     counted = {}
@@ -305,7 +308,9 @@ def longest(function, costs, bounds_of, report, functions_name=lambda address: h
         leaves = any(s not in body for n in body for s in edges[n]) or any(n in exits
                                                                              for n in body)
         # A loop with no way out ends the run (a fatal error's halt): no bound, no path on.
-        bound, per_call = bounds_of(function, ordinal[header], header) if leaves else (0, False)
+        fact = bounds_of(function, ordinal[header], header) if leaves else (0, False)
+        bound, per_call = fact[0], fact[1]
+        shared = fact[2] if len(fact) > 2 else None
         # Longest path from the header within the body, back edges to the header cut.
         dist = {}
 
@@ -342,7 +347,14 @@ def longest(function, costs, bounds_of, report, functions_name=lambda address: h
                           [dist[n] + exits[n] for n in body if n != header and n in exits],
                           default=0)
             turn = max(turn, partial)
-            per_call_extra += bound * turn
+            if shared is None:
+                per_call_extra += bound * turn
+            else:
+                # Runs of every loop of the group count against the one bound: each is charged
+                # the longest turn of the group, once per call.
+                if shared in shared_runs and shared_runs[shared][0] != bound:
+                    fail(f"{function.name}: the loops sharing '{shared}' state different bounds")
+                shared_runs[shared] = (bound, max(turn, shared_runs.get(shared, (0, 0))[1]))
             bound = 0
         node = ("loop", header)
         node_cost[node] = 0
@@ -377,7 +389,7 @@ def longest(function, costs, bounds_of, report, functions_name=lambda address: h
                             for c in function.blocks[b]["calls"]})
             report.append({"function": function.name, "header": ordinal[header],
                            "address": f"{header:#x}", "bound": bound or per_call_bound,
-                           "per_call": per_call, "turn": turn,
+                           "per_call": per_call, "shared": shared, "turn": turn,
                            "inside": [ordinal[h] for h in inside], "calls": calls})
     entry = getattr(function, "entry_node", function.entry)
     memo = {}
@@ -399,6 +411,7 @@ def longest(function, costs, bounds_of, report, functions_name=lambda address: h
     total = from_node(entry)
     if total is None:
         fail(f"{function.name}: no path reaches a return")
+    per_call_extra += sum(bound * turn for bound, turn in shared_runs.values())
     return total + per_call_extra
 
 
@@ -518,9 +531,12 @@ def main():
         for k, entry in enumerate(table):
             if re.match(entry["function"], function.name) and entry["header"] == ordinal:
                 used.add(k)
+                if "shared" in entry and not entry.get("per_call", False):
+                    fail(f"{args.bounds}: {entry['function']} loop {ordinal}: a shared bound "
+                         f"must be per call")
                 return (evaluate(entry["bound"], constants,
                                  f"{args.bounds}: {entry['function']} loop {ordinal}"),
-                        entry.get("per_call", False))
+                        entry.get("per_call", False), entry.get("shared"))
         if args.list_loops:
             return 1, False
         fail(f"{function.name}: loop {ordinal} at {header:#x} has no bound in "

@@ -510,7 +510,10 @@ w("`tools/elf-wcet.py` derives these from the firmware's disassembly (the QEMU b
   "`port/baremetal/loop-bounds.json`, where a trip count of the code is named by its constant and "
   "read from the source (`kCubicRootNewtonSteps`, `kMaxEventsOfTheExactSolutionPerStep`, "
   "`max_gap`, ...). The bound is the longest path through each function, one per instruction "
-  "(what QEMU's `-icount` counts), with every loop run to its bound by its longest turn and every "
+  "(what QEMU's `-icount` counts), with every loop run to its bound by its longest turn (a loop "
+  "bounded per call (`\"per_call\"`) counts its runs over all its entries in one call of its "
+  "function, and loops that the compiler split from one loop of the source (`\"shared\"`) count "
+  "their runs together) and every "
   "call taken at its callee's bound, or, where the table states how often a function calls a "
   "callee at most (`\"calls\"`: a call that only some passes of a loop make), at its callee's "
   "bound that many times per call of the function. A loop without a bound, an indirect branch or call, a jump "
@@ -533,7 +536,8 @@ for preset, heading in (
         if loop["function"].startswith(("memcpy", "memset")):
             continue
         w(f"| `{short_name(loop['function'])}` | {loop['header']} | {loop['bound']:,}"
-          f"{' per call' if loop.get('per_call') else ''} | {loop['turn']:,} | {loop.get('why', '')} |")
+          f"{' per call' if loop.get('per_call') else ''}"
+          f"{' (shared)' if loop.get('shared') else ''} | {loop['turn']:,} | {loop.get('why', '')} |")
     w("")
     facts = wcet[preset]["gap"].get("calls", [])
     if facts:

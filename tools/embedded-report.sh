@@ -62,7 +62,7 @@ for preset in cortex-m4f cortex-m0plus; do
   python3 tools/elf-callgraph.py "$elf" stickslip_seat_step stickslip_node_start stickslip_node_on_frame \
     >"$work/$preset.callgraph.json"
   # The plain firmware's objects (not the end-stop build's, whose functions share their names).
-  find "build/$preset" -name '*.su' -not -path '*end_stops*' -exec cat {} + >"$work/$preset.su"
+  find "build/$preset" -name '*.su' -not -path '*end_stops*' -not -name 'kernel_check*' -exec cat {} + >"$work/$preset.su"
   python3 tools/elf-callgraph.py "build/$preset/port/baremetal/stickslip_firmware_qemu_end_stops.elf" \
     stickslip_seat_step stickslip_node_on_frame >"$work/$preset.end-stops.callgraph.json"
 done

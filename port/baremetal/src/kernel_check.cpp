@@ -3,8 +3,9 @@
 // proportion by shift-and-subtract) against reference code of the same build that shares none of
 // their arithmetic: the portable sum, and 64-bit products and quotients from the compiler's
 // library (__aeabi_lmul, __aeabi_uldivmod). Run on QEMU with semihosting by CTest
-// embedded.kernels_match_reference_code: prints one line per kernel with its cases and mismatches
-// (the first mismatch's operands), and exits 0 only if there are none. The host's tests check the
+// embedded.kernels_match_reference_code: prints one line per kernel with its cases, those whose
+// result saturates, and its mismatches (the first mismatch's operands), and exits 0 only if there
+// are none. The host's tests check the
 // portable code; only this check runs the target's instructions.
 #include <cstdint>
 
@@ -103,10 +104,11 @@ std::uint32_t reference_proportion(std::uint32_t n, std::uint32_t d) {
 
 struct Tally {
   const char* name;
-  std::uint64_t cases = 0, mismatched = 0;
+  std::uint64_t cases = 0, mismatched = 0, saturated = 0;
   std::int64_t first_a = 0, first_b = 0;
-  void note(bool same, std::int64_t a, std::int64_t b) {
+  void note(bool same, std::int64_t a, std::int64_t b, bool saturating = false) {
     ++cases;
+    saturated += saturating ? 1u : 0u;
     if (!same && mismatched++ == 0) {
       first_a = a;
       first_b = b;
@@ -117,6 +119,8 @@ struct Tally {
     print(name);
     print(" cases=");
     print_number(cases);
+    print(" saturated=");
+    print_number(saturated);
     print(" mismatched=");
     print_number(mismatched);
     if (mismatched != 0) {
@@ -138,7 +142,7 @@ void check_add(Tally& tally, std::int32_t a, std::int32_t b) {
   const bool got_saturated = stickslip::take_fixed_point_saturation();
   bool saturated = false;
   const std::int32_t want = reference_add(a, b, saturated);
-  tally.note(got == want && got_saturated == saturated, a, b);
+  tally.note(got == want && got_saturated == saturated, a, b, saturated);
 }
 void check_multiply(Tally& tally, std::int32_t a, std::int32_t b) {
   stickslip::take_fixed_point_saturation();
@@ -146,7 +150,7 @@ void check_multiply(Tally& tally, std::int32_t a, std::int32_t b) {
   const bool got_saturated = stickslip::take_fixed_point_saturation();
   bool saturated = false;
   const std::int32_t want = reference_multiply(a, b, saturated);
-  tally.note(got == want && got_saturated == saturated, a, b);
+  tally.note(got == want && got_saturated == saturated, a, b, saturated);
 }
 void check_proportion(Tally& tally, std::uint32_t n, std::uint32_t d) {
   if (d == 0u) return;

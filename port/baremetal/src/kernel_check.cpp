@@ -171,6 +171,11 @@ extern "C" void firmware_main() {
       check_proportion(proportion, magnitude(a), magnitude(b));
     }
   }
+  // Quotients on a rounding tie (n 2^24 / d = k + 1/2) and beside it: d = m 2^25.
+  constexpr std::uint32_t kTieDivisorFactors[] = {1u, 3u, 5u, 63u};
+  for (const std::uint32_t m : kTieDivisorFactors) {
+    for (std::uint32_t n = 1; n <= 200; ++n) check_proportion(proportion, n, m << 25);
+  }
   for (int i = 0; i < kRandomCases; ++i) {
     const std::int32_t a = random_raw(), b = random_raw();
     check_add(add, a, b);

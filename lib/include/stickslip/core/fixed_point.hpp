@@ -83,6 +83,22 @@ struct Wide {
 #define STICKSLIP_FIXED_INLINE inline
 #endif
 
+// GCC's ARMv6-M code may take a kernel's instructions from inline assembly, where the carry and
+// overflow flags do what C++ cannot say (clang takes the portable code). GCC hands Thumb-1 inline
+// assembly over in divided syntax unless -masm-syntax-unified: such a block switches to unified
+// syntax and back.
+#if (defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)) && defined(__GNUC__) && \
+    !defined(__clang__)
+#define STICKSLIP_THUMB1_ASSEMBLY 1
+#ifdef __ARM_ASM_SYNTAX_UNIFIED__
+#define STICKSLIP_THUMB1_UNIFIED_BEGIN ""
+#define STICKSLIP_THUMB1_UNIFIED_END ""
+#else
+#define STICKSLIP_THUMB1_UNIFIED_BEGIN ".syntax unified\n\t"
+#define STICKSLIP_THUMB1_UNIFIED_END "\n\t.syntax divided"
+#endif
+#endif
+
 // Exact a * b for 32-bit a, b. ARMv6-M (Cortex-M0/M0+) has only a 32 x 32 -> 32-bit multiply,
 // and the compiler would call its 64 x 64 -> 64-bit library routine: four 16 x 16 -> 32-bit
 // products instead, inline. Elsewhere (UMULL, x86-64) the compiler's product is one instruction.
@@ -252,6 +268,39 @@ STICKSLIP_FIXED_INLINE constexpr void division_round(U& r, U& q, U d) noexcept {
   }
 }
 
+#ifdef STICKSLIP_THUMB1_ASSEMBLY
+// The rounds of proportion_raw() below for 32-bit words by the carry: CMP leaves the quotient bit
+// in the carry, which SUBS keeps and ADCS shifts into the quotient, 4 or 5 instructions a round
+// where the portable round takes 6 or 7 with its loop. For 0 <= n < d < 2^31. Checked against
+// a 64-bit division on the target (port/baremetal/src/kernel_check.cpp, CTest
+// embedded.kernels_match_reference_code).
+template <int F>
+STICKSLIP_FIXED_INLINE std::uint32_t proportion_rounds_by_carry(std::uint32_t n,
+                                                                std::uint32_t d) noexcept {
+  std::uint32_t r = n, q = 0;
+  const std::uint32_t zero = 0;
+  asm(STICKSLIP_THUMB1_UNIFIED_BEGIN
+      ".rept %c[rounds]\n\t"
+      "lsls %[r], %[r], #1\n\t"
+      "cmp %[r], %[d]\n\t"
+      "bcc 1f\n\t"
+      "subs %[r], %[r], %[d]\n"
+      "1:\n\t"
+      "adcs %[q], %[q]\n\t"
+      ".endr\n\t"
+      // Round to nearest, ties up: the carry of 2 r >= d.
+      "lsls %[r], %[r], #1\n\t"
+      "cmp %[r], %[d]\n\t"
+      "adcs %[q], %[zero]" STICKSLIP_THUMB1_UNIFIED_END
+      : [r] "+&l"(r), [q] "+&l"(q)
+      : [d] "l"(d), [zero] "l"(zero), [rounds] "i"(F)
+      // Early clobbers: r and q are written before d and zero are last read, and zero must not
+      // share q's register (both hold 0 on entry).
+      : "cc");
+  return q;
+}
+#endif
+
 // round(n / d 2^F) for 0 <= n, 0 < d < 2^(bits - 1) (unsigned magnitudes), clamped to [0, 2^F]:
 // F rounds of restoring shift-and-subtract, ties rounded up; n >= d gives exactly 2^F. The event
 // instants of the step (a fraction of a tick or of the step), where a division would need a
@@ -259,6 +308,11 @@ STICKSLIP_FIXED_INLINE constexpr void division_round(U& r, U& q, U d) noexcept {
 template <int F, typename U>
 STICKSLIP_FIXED_KERNEL constexpr U proportion_raw(U n, U d) noexcept {
   if (n >= d) return U{1} << F;
+#ifdef STICKSLIP_THUMB1_ASSEMBLY
+  if constexpr (sizeof(U) == 4) {
+    if (!__builtin_is_constant_evaluated()) return proportion_rounds_by_carry<F>(n, d);
+  }
+#endif
   U q = 0;
   U r = n;  // r < d throughout, so 2 r does not overflow
   // Four rounds per pass: on ARMv6-M the loop's count and branch were a third of each round.

@@ -61,20 +61,7 @@ STICKSLIP_FIXED_INLINE constexpr std::int32_t add_raw32_portable(std::int32_t a,
   return sum;
 }
 
-// The sum by the flags below: GCC's ARMv6-M code (clang takes the portable sum).
-#if (defined(__ARM_ARCH_6M__) || defined(__ARM_ARCH_8M_BASE__)) && defined(__GNUC__) && \
-    !defined(__clang__)
-#define STICKSLIP_ADD_BY_FLAGS 1
-// GCC hands Thumb-1 inline assembly over in divided syntax unless -masm-syntax-unified: the
-// block then switches to unified syntax and back.
-#ifdef __ARM_ASM_SYNTAX_UNIFIED__
-#define STICKSLIP_THUMB1_UNIFIED_BEGIN ""
-#define STICKSLIP_THUMB1_UNIFIED_END ""
-#else
-#define STICKSLIP_THUMB1_UNIFIED_BEGIN ".syntax unified\n\t"
-#define STICKSLIP_THUMB1_UNIFIED_END "\n\t.syntax divided"
-#endif
-
+#ifdef STICKSLIP_THUMB1_ASSEMBLY
 // The same sum by the flags: the overflow is the V flag of ADDS, which C++ cannot read (GCC tests
 // it with three logical operations, and -2^31 with a constant it builds in a register). The sum
 // leaves the symmetric range exactly where ADDS overflows or where SUBS of 1 from the sum does
@@ -96,13 +83,11 @@ out_of_range:
   flag_saturation();
   return a < 0 ? -kMaxRaw32 : kMaxRaw32;
 }
-#undef STICKSLIP_THUMB1_UNIFIED_BEGIN
-#undef STICKSLIP_THUMB1_UNIFIED_END
 #endif
 
 // a + b, saturated to the symmetric range.
 STICKSLIP_FIXED_KERNEL constexpr std::int32_t add_raw32(std::int32_t a, std::int32_t b) noexcept {
-#ifdef STICKSLIP_ADD_BY_FLAGS
+#ifdef STICKSLIP_THUMB1_ASSEMBLY
   if (!__builtin_is_constant_evaluated()) return add_raw32_by_flags(a, b);
 #endif
   return add_raw32_portable(a, b);

@@ -36,6 +36,31 @@ TEST(Crc8, EverySingleBitFlipOfThePayloadIsDetected) {
   }
 }
 
+TEST(Crc8, E2eCrcIsTheCrcOfTheDataIdThenPayloadBytesOneToSeven) {
+  // e2e_crc() is unrolled for the MCUs; its definition is the CRC of its 9 bytes.
+  std::uint32_t state = 12345u;
+  for (const std::uint16_t data_id : {std::uint16_t{0x0000}, std::uint16_t{0x0100},
+                                      std::uint16_t{0x1234}, std::uint16_t{0xFFFF}}) {
+    for (int trial = 0; trial < 1000; ++trial) {
+      std::uint8_t payload[8];
+      for (std::uint8_t& byte : payload) {
+        state = state * 1664525u + 1013904223u;
+        byte = static_cast<std::uint8_t>(state >> 24);
+      }
+      const std::uint8_t bytes[9] = {static_cast<std::uint8_t>(data_id & 0xFFu),
+                                     static_cast<std::uint8_t>(data_id >> 8),
+                                     payload[1],
+                                     payload[2],
+                                     payload[3],
+                                     payload[4],
+                                     payload[5],
+                                     payload[6],
+                                     payload[7]};
+      LONGS_EQUAL(crc8_sae_j1850(bytes, 9), e2e_crc(data_id, payload));
+    }
+  }
+}
+
 TEST(Crc8, DataIdIsFoldedIntoTheCrc) {
   // The same bytes under another message's data ID fail: a frame cannot pass as another message.
   const Frame frame = make_input_frame(-0.5, 7);

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "CppUTest/TestHarness.h"
+#include "exact_rounding.hpp"
 #include "oracles.hpp"
 #include "stickslip/core/params.hpp"
 #include "stickslip/core/status.hpp"
@@ -32,16 +33,6 @@
 #include "stickslip/models/oscillator.hpp"
 
 namespace stickslip::test {
-
-// round(a b / 2^fraction_bits), ties away from zero, in an integer type wide enough for a b:
-// the exact reference for a fixed-point product.
-template <int kFractionBits, typename Wide>
-Wide rounded_product(Wide a, Wide b) {
-  const Wide p = a * b;
-  const Wide magnitude = p < 0 ? -p : p;
-  const Wide q = (magnitude + (Wide{1} << (kFractionBits - 1))) >> kFractionBits;
-  return p < 0 ? -q : q;
-}
 
 inline bool contains(const char* text, const char* part) {
   return std::strstr(text, part) != nullptr;

@@ -9,6 +9,7 @@
 // portable code; only this check runs the target's instructions.
 #include <cstdint>
 
+#include "exact_rounding.hpp"
 #include "semihosting.hpp"
 #include "stickslip/core/fixed_point32.hpp"
 
@@ -80,17 +81,12 @@ std::int32_t reference_add(std::int32_t a, std::int32_t b, bool& saturated) {
   saturated = sum > kMax || sum < -kMax;
   return saturated ? (sum < 0 ? -kMax : kMax) : static_cast<std::int32_t>(sum);
 }
-// round(a b / 2^24), ties away from zero, saturated: the 64-bit product of the compiler's
-// library.
+// round(a b / 2^24), ties away from zero, saturated: the 64-bit product of the compiler's library
+// (__aeabi_lmul), rounded by the host tests' reference.
 std::int32_t reference_multiply(std::int32_t a, std::int32_t b, bool& saturated) {
-  const std::int64_t product = std::int64_t{a} * std::int64_t{b};
-  const bool negative = product < 0;
-  const std::uint64_t magnitude = negative ? std::uint64_t{0} - static_cast<std::uint64_t>(product)
-                                           : static_cast<std::uint64_t>(product);
-  const std::uint64_t q = (magnitude + (std::uint64_t{1} << (kF - 1))) >> kF;
-  saturated = q > static_cast<std::uint64_t>(kMax);
-  if (saturated) return negative ? -kMax : kMax;
-  return negative ? -static_cast<std::int32_t>(q) : static_cast<std::int32_t>(q);
+  const std::int64_t q = stickslip::test::rounded_product<kF>(std::int64_t{a}, std::int64_t{b});
+  saturated = q > kMax || q < -kMax;
+  return saturated ? (q < 0 ? -kMax : kMax) : static_cast<std::int32_t>(q);
 }
 // n / d in [0, 1] as Q.24 for 0 <= n, 0 < d, rounded to nearest, ties up: a 64-bit division of
 // the compiler's library.

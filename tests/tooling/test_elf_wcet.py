@@ -154,9 +154,9 @@ if not costliest(search, {2: (4, False)}, {"F": 1000}, {"F": 4}) > counted_calls
     print("call-count fact: a fourth call fits the analysis of three: FAILED")
     failures.append("call-count soundness")
 
-# step_sticking()'s passes split in two loops by the compiler: the event loop (header 2, its
-# slip pass, block 3, may return from inside) and, after its way out (block 6), a loop of stuck
-# passes (header 5, body 8) that ends the step. Their runs together are at most 4 per call: a
+# One event loop of the source that the compiler split in two (as GCC may split a step's
+# passes): the event loop (header 2, its slip pass, block 3, may return from inside) and, after
+# its way out (block 6), a loop of stuck passes (header 5, body 8) that ends the step. Their runs together are at most 4 per call: a
 # shared per-call bound charges 4 of the longer turn once, where a bound of 4 on each would
 # charge 8 passes.
 passes = function("shared passes", {1: 1, 2: 2, 3: 50, 6: 4, 5: 2, 7: 3, 8: 20, 9: 1},

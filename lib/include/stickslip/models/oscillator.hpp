@@ -475,16 +475,19 @@ class Oscillator {
   STICKSLIP_COMPACT_INLINE bool finish_tick_taylor(Position& pos, T& x, T& v, T d, const Input& in,
                                                    T force_n, PieceStart start) const noexcept;
   STICKSLIP_COMPACT_INLINE bool finish_tick_cubic(Position& pos, T& x, T& v, T d, const Input& in,
-                                                  T force_n, PieceStart start) const noexcept;
+                                                  T force_n, PieceStart start,
+                                                  const T* a_u_at_pos) const noexcept;
   STICKSLIP_COMPACT_INLINE bool finish_tick_interpolated(Position& pos, T& x, T& v, T d,
                                                          const Input& in, T force_n,
                                                          PieceStart start) const noexcept;
   template <typename Force>
   STICKSLIP_COMPACT_INLINE bool slip(Position& pos, T& x, T& v, T d, const Input& in,
                                      const Force& force, PieceStart start = PieceStart::kInPhase,
-                                     const WholeSlip<T>* whole_step = nullptr) const noexcept;
+                                     const WholeSlip<T>* whole_step = nullptr,
+                                     const T* a_u_at_pos = nullptr) const noexcept;
   STICKSLIP_COMPACT_INLINE bool slip_piece(Position& pos, T d, const Input& in, PieceStart start,
-                                           const WholeSlip<T>* whole_step) noexcept;
+                                           const WholeSlip<T>* whole_step,
+                                           const T* a_u_at_pos) noexcept;
   STICKSLIP_OUT_OF_LINE int step_held(const Input& in) noexcept;
   STICKSLIP_OUT_OF_LINE bool whole_step_slips(const Input& in, StepOutput<T>& out) noexcept;
   STICKSLIP_OUT_OF_LINE int step_sticking(const Input& in, T& stuck_fraction,

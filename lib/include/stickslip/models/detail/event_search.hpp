@@ -251,15 +251,18 @@ inline bool Oscillator<T, Law>::finish_tick_interpolated(Position& pos, T& x, T&
 // tick (or at a slip start) to its end on the cubic Taylor polynomial of the exact solution
 // (integrators/cubic_segment.hpp), friction force_n held, as finish_tick_taylor() does with its
 // polynomial. Returns true with v_r = 0 and `pos` at the first instant where v_r d turns negative
-// (not searched for PieceStart::kFromRestNoReturn).
+// (not searched for PieceStart::kFromRestNoReturn). `a_u_at_pos`: a_u at `pos`, where the caller
+// has it (the instant of the event that ended the last pass), else null.
 template <typename T, typename Law>
 inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d, const Input& in,
-                                                  T force_n, PieceStart start) const noexcept {
+                                                  T force_n, PieceStart start,
+                                                  const T* a_u_at_pos) const noexcept {
   // Compiled for the scalars whose traits offer the cubic search only (slip() calls this for
   // them alone; the explicit instantiations of the others compile every member).
   if constexpr (S::kCubicEventSearch) {
     const T span = T(1) - pos.frac;
-    T a = relative_acceleration(x, v, force_n, input_at(in, phi(pos)));
+    T a = relative_acceleration(x, v, force_n,
+                                a_u_at_pos != nullptr ? *a_u_at_pos : input_at(in, phi(pos)));
     // A slip phase starts at rest with a_r d >= 0 (the stick decision): the opposite sign is
     // rounding. (The search from rest needs no start guard: see CubicSegment::first_crossing().)
     if (start != PieceStart::kInPhase && a * d < T(0)) a = T(0);
@@ -272,7 +275,7 @@ inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d
     const bool found = search && segment.first_crossing(d, span, root);
     return end_on_segment(segment, found, root, pos.frac, pos, x, v);
   } else {
-    (void)pos, (void)x, (void)v, (void)d, (void)in, (void)force_n, (void)start;
+    (void)pos, (void)x, (void)v, (void)d, (void)in, (void)force_n, (void)start, (void)a_u_at_pos;
     return false;
   }
 }
@@ -286,16 +289,21 @@ inline bool Oscillator<T, Law>::finish_tick_cubic(Position& pos, T& x, T& v, T d
 // |F_L| ~ F_fs) fake one. kFromRestNoReturn: clamped so, then integrated to the end without
 // looking for events.
 // `whole_step`: the common path's whole step from the start of the step, if it was computed.
+// `a_u_at_pos`: a_u at `pos`, if the caller has it; the cubic search takes it instead of
+// interpolating the input again (two products in Q7.24), the other searches interpolate.
 template <typename T, typename Law>
 template <typename Force>
 inline bool Oscillator<T, Law>::slip(Position& pos, T& x, T& v, T d, const Input& in,
                                      const Force& force, PieceStart start,
-                                     const WholeSlip<T>* whole_step) const noexcept {
+                                     const WholeSlip<T>* whole_step,
+                                     const T* a_u_at_pos) const noexcept {
   if constexpr (S::kCubicEventSearch) {
     // One tick per step: its polynomial finds the crossing, a dip included, with no block maps.
     (void)whole_step;
-    return pos.tick < ticks_per_step_ && finish_tick_cubic(pos, x, v, d, in, force(v), start);
+    return pos.tick < ticks_per_step_ &&
+           finish_tick_cubic(pos, x, v, d, in, force(v), start, a_u_at_pos);
   }
+  (void)a_u_at_pos;
   if (pos.tick < ticks_per_step_ && (pos.frac > T(0) || start != PieceStart::kInPhase)) {
     if (taylor_search()) {
       if (finish_tick_taylor(pos, x, v, d, in, force(v), start)) return true;
@@ -441,14 +449,15 @@ bool Oscillator<T, Law>::whole_step_slips(const Input& in, StepOutput<T>& out) n
 // on the search's grid (and EndStopOscillator's, out of reach of its stops, is this one).
 template <typename T, typename Law>
 inline bool Oscillator<T, Law>::slip_piece(Position& pos, T d, const Input& in, PieceStart start,
-                                           const WholeSlip<T>* whole_step) noexcept {
+                                           const WholeSlip<T>* whole_step,
+                                           const T* a_u_at_pos) noexcept {
   if constexpr (Law::velocity_dependent) {
     if (!stage_friction_) {
       const ConstantForce held{Law::slip_force(v_, direction_, friction_)};
-      return slip(pos, x_, v_, d, in, held, start, whole_step);
+      return slip(pos, x_, v_, d, in, held, start, whole_step, a_u_at_pos);
     }
   }
-  return slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, start, whole_step);
+  return slip(pos, x_, v_, d, in, SlipForce{&friction_, direction_}, start, whole_step, a_u_at_pos);
 }
 
 // Stick-slip and Stribeck: the event loop of one step. `whole_step`: the common path's whole
@@ -460,6 +469,11 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
   int events = 0;
   bool starting = false;            // a slip phase begins at pos (after break-away or reversal)
   bool searched_from_rest = false;  // the step's last slip from rest looked for a return to rest
+  // a_u and F_L at pos, where the slip that found the event there computed them for its decision:
+  // the pass that follows starts from the same instant and state.
+  bool at_event = false;
+  T a_u_at_event = T(0);
+  T limit_at_event = T(0);
   for (;;) {
     if (direction_ == T(0)) {
       // Stuck: F_L is linear in time inside the step; check the end, then solve for break-away.
@@ -477,8 +491,8 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
         stuck_fraction += T(1) - phi_now;
         return events;
       }
-      const T a_u_now = input_at(in, phi_now);
-      const T limit_now = limit_force(a_u_now, x_);
+      const T a_u_now = at_event ? a_u_at_event : input_at(in, phi_now);
+      const T limit_now = at_event ? limit_at_event : limit_force(a_u_now, x_);
       T d = signum(limit_end);
       // F_L reaches F_fs on limit_end's side between now and the end: the denominator is non-zero
       // because limit_now is short of that threshold and limit_end beyond it. It may start on
@@ -510,6 +524,7 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
       v_ = T(0);
       ++events;
       starting = true;
+      at_event = false;
       continue;
     }
     const bool detect = events < event_budget();
@@ -530,7 +545,8 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
       searched_from_rest = start == PieceStart::kFromRest;
     }
     const T d = detect ? direction_ : T(0);
-    if (!slip_piece(pos, d, in, start, events == 0 ? whole_step : nullptr)) {
+    if (!slip_piece(pos, d, in, start, events == 0 ? whole_step : nullptr,
+                    at_event ? &a_u_at_event : nullptr)) {
       // At the budget the slip runs to the end unsearched; counted where it lost an event (v_r
       // ended against its direction).
       if (!detect && v_ * direction_ < T(0)) ++counters_.event_budget_exhausted;
@@ -539,9 +555,11 @@ int Oscillator<T, Law>::step_sticking(const Input& in, T& stuck_fraction,
     ++events;
     // v_r reached 0: stick if the limit force is within static friction (to its rounding), else
     // reverse.
-    const T a_u_now = input_at(in, phi(pos));
-    const T limit = limit_force(a_u_now, x_);
-    direction_ = S::abs(limit) <= holding_limit_n(a_u_now, x_) ? T(0) : signum(limit);
+    a_u_at_event = input_at(in, phi(pos));
+    limit_at_event = limit_force(a_u_at_event, x_);
+    at_event = true;
+    direction_ =
+        S::abs(limit_at_event) <= holding_limit_n(a_u_at_event, x_) ? T(0) : signum(limit_at_event);
     starting = direction_ != T(0);
   }
 }

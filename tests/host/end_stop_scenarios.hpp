@@ -42,12 +42,13 @@ inline std::vector<double> wideband(double rms, double duration_s, std::uint64_t
   return floor_signal(host::SignalKind::wideband, rms, kDt, seed, 0.0, duration_s);
 }
 
-// White noise, a new level every sample, uniform in +-level_m_per_s2 (20,001 samples: 20 s at
+// White noise, a new level every sample, uniform in +-level_m_per_s2 (20 s: 20,001 samples at
 // kDt): the floor on which v_r crosses 0 and back inside one step.
-inline std::vector<double> white_noise(double level_m_per_s2, std::uint64_t seed) {
+inline std::vector<double> white_noise(double level_m_per_s2, std::uint64_t seed,
+                                       double dt_s = kDt) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> level(-level_m_per_s2, level_m_per_s2);
-  std::vector<double> a_u(20001);
+  std::vector<double> a_u(static_cast<std::size_t>(std::lround(20.0 / dt_s)) + 1);
   for (double& a : a_u) a = level(rng);
   return a_u;
 }

@@ -312,6 +312,35 @@ UndampedScene random_undamped_scene(test::SplitMix64& draw, int i, bool sticking
   scene.stops.damping_ns_per_m = 0.0;
   return scene;
 }
+
+// The model's steps, each started from the exact solution's state at sample n, against its state
+// at n + 1: the largest distance (x_r and v_r, relative to their RMS over the run) and how many
+// steps were stuck, crossed a stop's edge, stayed in contact or stayed free.
+struct StepsFromExactStates {
+  double worst = 0.0;
+  long stuck = 0, crossing = 0, contact = 0, free = 0;
+};
+
+template <typename Model>
+void step_from_exact_states(Model& model, const EndStopParams& s, const std::vector<double>& a_u,
+                            const ReferenceTrace& exact, StepsFromExactStates& steps) {
+  const double x_scale = rms(exact.x_r_m), v_scale = rms(exact.v_r_m_per_s);
+  for (std::size_t n = 0; n + 1 < a_u.size(); ++n) {
+    model.reset(exact.x_r_m[n], exact.v_r_m_per_s[n], a_u[n]);
+    const StepOutput<double> out = model.step(a_u[n + 1]);
+    steps.worst = std::max({steps.worst, std::fabs(out.x_r_m - exact.x_r_m[n + 1]) / x_scale,
+                            std::fabs(out.v_r_m_per_s - exact.v_r_m_per_s[n + 1]) / v_scale});
+    const bool in0 = std::fabs(exact.x_r_m[n]) > s.travel_m;
+    const bool in1 = std::fabs(exact.x_r_m[n + 1]) > s.travel_m;
+    if (exact.v_r_m_per_s[n] == 0.0 && exact.v_r_m_per_s[n + 1] == 0.0) {
+      ++steps.stuck;
+    } else if (in0 != in1) {
+      ++steps.crossing;
+    } else {
+      ++(in0 ? steps.contact : steps.free);
+    }
+  }
+}
 }  // namespace
 
 // What the spread above cannot tell apart: a core that rounds every step but is exact, and one
@@ -328,8 +357,7 @@ UndampedScene random_undamped_scene(test::SplitMix64& draw, int i, bool sticking
 // occur in the set.
 TEST(EndStopExactness, UndampedStepFromTheExactStateLandsOnTheExactSolutionToRounding) {
   test::SplitMix64 draw(20261129);
-  double worst = 0.0;
-  long free_steps = 0, contact_steps = 0, crossing_steps = 0, stuck_steps = 0;
+  StepsFromExactStates steps;
   for (int i = 0; i < 12; ++i) {
     const bool sticking = i % 3 != 2;
     const UndampedScene scene =
@@ -338,25 +366,9 @@ TEST(EndStopExactness, UndampedStepFromTheExactStateLandsOnTheExactSolutionToRou
     const EndStopParams& s = scene.stops;
     const std::vector<double>& a_u = scene.a_u;
     const ReferenceTrace exact = solve_reference(p, s, a_u);
-    const double x_scale = rms(exact.x_r_m), v_scale = rms(exact.v_r_m_per_s);
-    double seat_worst = 0.0;
     const auto one_step = [&](auto& model) {
       CHECK_TRUE(model.configure(p, s).ok());
-      for (std::size_t n = 0; n + 1 < a_u.size(); ++n) {
-        model.reset(exact.x_r_m[n], exact.v_r_m_per_s[n], a_u[n]);
-        const StepOutput<double> out = model.step(a_u[n + 1]);
-        seat_worst = std::max({seat_worst, std::fabs(out.x_r_m - exact.x_r_m[n + 1]) / x_scale,
-                               std::fabs(out.v_r_m_per_s - exact.v_r_m_per_s[n + 1]) / v_scale});
-        const bool in0 = std::fabs(exact.x_r_m[n]) > s.travel_m;
-        const bool in1 = std::fabs(exact.x_r_m[n + 1]) > s.travel_m;
-        if (exact.v_r_m_per_s[n] == 0.0 && exact.v_r_m_per_s[n + 1] == 0.0) {
-          ++stuck_steps;
-        } else if (in0 != in1) {
-          ++crossing_steps;
-        } else {
-          ++(in0 ? contact_steps : free_steps);
-        }
-      }
+      step_from_exact_states(model, s, a_u, exact, steps);
     };
     if (sticking) {
       EndStopOscillator<double, CoulombStickSlip> model;
@@ -366,14 +378,13 @@ TEST(EndStopExactness, UndampedStepFromTheExactStateLandsOnTheExactSolutionToRou
       one_step(model);
     }
     CHECK(exact.contacts > 0);
-    worst = std::max(worst, seat_worst);
   }
-  test::note_margin("undamped, one step from the exact state (of the RMS)", worst, 3e-14);
-  CHECK(worst <= 3e-14);
-  CHECK(free_steps > 0);
-  CHECK(contact_steps > 0);
-  CHECK(crossing_steps > 0);
-  CHECK(stuck_steps > 0);
+  test::note_margin("undamped, one step from the exact state (of the RMS)", steps.worst, 3e-14);
+  CHECK(steps.worst <= 3e-14);
+  CHECK(steps.free > 0);
+  CHECK(steps.contact > 0);
+  CHECK(steps.crossing > 0);
+  CHECK(steps.stuck > 0);
 }
 
 // Random undamped seats (drawn as above, a third of them with Coulomb stick-slip, the others
@@ -443,9 +454,9 @@ TEST(EndStopExactness,
      DampedRandomSeatsStepOntoTheExactSolutionAndFollowItWhereItIsWellConditioned) {
   test::SplitMix64 draw(20261202);
   const SignalKind kinds[3] = {SignalKind::wideband, SignalKind::lorry, SignalKind::harmonic};
-  double worst_step = 0.0, worst_history = 0.0;
+  double worst_history = 0.0;
   int scenes = 0, well_conditioned = 0, white = 0, sticking_scenes = 0;
-  long contact_steps = 0, stuck_steps = 0;
+  StepsFromExactStates steps;
   while (scenes < 12) {
     const int i = scenes;
     const bool sticking = i % 3 != 2;
@@ -462,9 +473,7 @@ TEST(EndStopExactness,
     const double level = draw.uniform(0.5, 4.0);
     const std::uint64_t floor_seed = draw.next() % 100000;
     if (i % 4 == 3) {
-      test::SplitMix64 noise(floor_seed);
-      a_u.resize(static_cast<std::size_t>(std::lround(20.0 / dt_s)) + 1);
-      for (double& a : a_u) a = noise.uniform(-5.0 * level, 5.0 * level);
+      a_u = white_noise(5.0 * level, floor_seed, dt_s);
     } else {
       a_u = floor_signal(kinds[i % 4 % 3], level, dt_s, floor_seed, draw.uniform(0.8, 4.0));
     }
@@ -478,7 +487,6 @@ TEST(EndStopExactness,
     ++scenes;
     white += i % 4 == 3 ? 1 : 0;
     sticking_scenes += sticking ? 1 : 0;
-    const double x_scale = rms(exact.x_r_m), v_scale = rms(exact.v_r_m_per_s);
     const Deviation spread = spread_of_exact_solutions(p, s, a_u, exact);
     const auto check = [&](auto& model) {
       CHECK_TRUE(model.configure(p, s).ok());
@@ -493,14 +501,7 @@ TEST(EndStopExactness,
         CHECK(d.t_ax <= 1e-9);
         CHECK(d.p <= 1e-9);
       }
-      for (std::size_t n = 0; n + 1 < a_u.size(); ++n) {
-        model.reset(exact.x_r_m[n], exact.v_r_m_per_s[n], a_u[n]);
-        const StepOutput<double> out = model.step(a_u[n + 1]);
-        worst_step = std::max({worst_step, std::fabs(out.x_r_m - exact.x_r_m[n + 1]) / x_scale,
-                               std::fabs(out.v_r_m_per_s - exact.v_r_m_per_s[n + 1]) / v_scale});
-        if (std::fabs(exact.x_r_m[n + 1]) > s.travel_m) ++contact_steps;
-        if (exact.v_r_m_per_s[n] == 0.0 && exact.v_r_m_per_s[n + 1] == 0.0) ++stuck_steps;
-      }
+      step_from_exact_states(model, s, a_u, exact, steps);
     };
     if (sticking) {
       EndStopOscillator<double, CoulombStickSlip> model;
@@ -510,15 +511,15 @@ TEST(EndStopExactness,
       check(model);
     }
   }
-  test::note_margin("damped random seats, one step from the exact state (of the RMS)", worst_step,
+  test::note_margin("damped random seats, one step from the exact state (of the RMS)", steps.worst,
                     3e-14);
   test::note_margin("damped random seats, well-conditioned histories", worst_history, 1e-9);
-  CHECK(worst_step <= 3e-14);
+  CHECK(steps.worst <= 3e-14);
   CHECK(well_conditioned >= 6);
   CHECK(white >= 2);
   CHECK(sticking_scenes >= 6);
-  CHECK(contact_steps > 0);
-  CHECK(stuck_steps > 0);
+  CHECK(steps.contact + steps.crossing > 0);
+  CHECK(steps.stuck > 0);
 }
 
 // No dissipation anywhere (no friction, b = 0, b_s = 0) and no input: the energy (spring, stop

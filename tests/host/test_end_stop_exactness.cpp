@@ -313,6 +313,19 @@ UndampedScene random_undamped_scene(test::SplitMix64& draw, int i, bool sticking
   return scene;
 }
 
+// Calls `check` with a configurable end-stop seat of double: Coulomb stick-slip where `sticking`,
+// else frictionless (the two laws the random scenes draw).
+template <typename Check>
+void with_end_stop_seat(bool sticking, const Check& check) {
+  if (sticking) {
+    EndStopOscillator<double, CoulombStickSlip> model;
+    check(model);
+  } else {
+    EndStopOscillator<double, NoFriction> model;
+    check(model);
+  }
+}
+
 // The model's steps, each started from the exact solution's state at sample n, against its state
 // at n + 1: the largest distance (x_r and v_r, relative to their RMS over the run) and how many
 // steps were stuck, crossed a stop's edge, stayed in contact or stayed free.
@@ -370,13 +383,7 @@ TEST(EndStopExactness, UndampedStepFromTheExactStateLandsOnTheExactSolutionToRou
       CHECK_TRUE(model.configure(p, s).ok());
       step_from_exact_states(model, s, a_u, exact, steps);
     };
-    if (sticking) {
-      EndStopOscillator<double, CoulombStickSlip> model;
-      one_step(model);
-    } else {
-      EndStopOscillator<double, NoFriction> model;
-      one_step(model);
-    }
+    with_end_stop_seat(sticking, one_step);
     CHECK(exact.contacts > 0);
   }
   test::note_margin("undamped, one step from the exact state (of the RMS)", steps.worst, 3e-14);
@@ -503,13 +510,7 @@ TEST(EndStopExactness,
       }
       step_from_exact_states(model, s, a_u, exact, steps);
     };
-    if (sticking) {
-      EndStopOscillator<double, CoulombStickSlip> model;
-      check(model);
-    } else {
-      EndStopOscillator<double, NoFriction> model;
-      check(model);
-    }
+    with_end_stop_seat(sticking, check);
   }
   test::note_margin("damped random seats, one step from the exact state (of the RMS)", steps.worst,
                     3e-14);
